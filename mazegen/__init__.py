@@ -1,0 +1,20 @@
+"""MazeGen: robot-navigation scenarios from a small language, by grammatical evolution.
+
+The API (``load``, ``build``, ``run``) lives in :mod:`mazegen.api`; it is imported
+on first use so that ``import mazegen`` stays light for the command line.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+__version__ = "0.1.0"
+__all__ = ["build", "load", "run"]
+
+
+def __getattr__(name: str) -> Any:
+    if name in __all__:
+        from mazegen import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'mazegen' has no attribute {name!r}")

@@ -1,0 +1,23 @@
+"""The ``mazegen`` command: one sub-command per module of this package."""
+
+from __future__ import annotations
+
+import click
+
+from mazegen import __version__
+from mazegen.cli.build import build
+from mazegen.cli.check import check
+from mazegen.cli.map import map_command
+from mazegen.cli.render import render
+from mazegen.cli.run import run
+from mazegen.cli.score import score
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="mazegen")
+def main() -> None:
+    """Generate robot-navigation test scenarios from .maze specs by grammatical evolution."""
+
+
+for command in (check, build, run, map_command, score, render):
+    main.add_command(command)

@@ -1,0 +1,65 @@
+"""``mazegen map GRAMMAR.bnf CODON...``: map genomes through a BNF grammar."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import click
+
+from mazegen.cli.errors import reports_errors
+from mazegen.errors import MazeError
+
+_SEPARATOR = re.compile(r"[\s,]+")
+
+
+def _genomes(path: Path) -> list[tuple[int, list[int]]]:
+    genomes = []
+    for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+        text = line.strip().strip("[]")
+        if not text:
+            continue
+        try:
+            genomes.append((number, [int(token) for token in _SEPARATOR.split(text) if token]))
+        except ValueError:
+            raise MazeError("a genome is integers separated by spaces or commas", filename=str(path),
+                            line=number, col=1) from None
+    return genomes
+
+
+@click.command("map")
+@click.argument("grammar", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("codons", nargs=-1, type=int)
+@click.option("--genomes", type=click.Path(exists=True, dir_okay=False, path_type=Path),
+              help="File with one genome per line (codons separated by spaces or commas).")
+@click.option("--wraps", type=click.IntRange(min=0), default=0, show_default=True,
+              help="Extra passes over the genome.")
+@click.option("--consume", type=click.Choice(["eager", "lazy"]), default="eager", show_default=True,
+              help="eager: one-alternative rules use a codon (PonyGE2); lazy: they do not.")
+@click.option("--json", "as_json", is_flag=True, help="One JSON object per genome.")
+@reports_errors
+def map_command(grammar: Path, codons: tuple[int, ...], genomes: Path | None, wraps: int, consume: str,
+                as_json: bool) -> None:
+    """Print the phenotype of each genome and the codons it used, or `invalid`."""
+    from mazegen.runtime.bnf import read_bnf
+    from mazegen.runtime.mapping import map_genome
+
+    parsed = read_bnf(grammar)
+    if genomes is not None:
+        batch = [genome for _, genome in _genomes(genomes)]
+    elif codons:
+        batch = [list(codons)]
+    else:
+        raise MazeError("give codons after the grammar, or --genomes FILE")
+    for genome in batch:
+        if not genome or any(c < 0 for c in genome):
+            raise MazeError("a genome needs at least one codon, none negative")
+        result = map_genome(parsed, genome, wraps=wraps, consume=consume)
+        if as_json:
+            click.echo(json.dumps({"phenotype": result.phenotype, "valid": result.valid,
+                                   "used_codons": result.used_codons}))
+        elif result.valid:
+            click.echo(f"{result.phenotype}\t{result.used_codons} codons")
+        else:
+            click.echo(f"invalid\t{result.used_codons} codons")

@@ -1,0 +1,35 @@
+"""``mazegen score SPEC SCENARIO.json``: the fitness of a scenario under a spec."""
+
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import click
+
+from mazegen.cli.errors import reports_errors
+
+
+@click.command()
+@click.argument("spec", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("scenario", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@reports_errors
+def score(spec: Path, scenario: Path) -> None:
+    """Print the fitness of SCENARIO under SPEC and each term's value."""
+    from mazegen.dsl.loader import load_spec
+    from mazegen.generator.build import build
+    from mazegen.runtime.problem import Problem
+    from mazegen.runtime.scenario import population_from_document, read_document
+
+    resolved = load_spec(spec)
+    document = read_document(scenario.read_text(encoding="utf-8"), str(scenario))
+    with tempfile.TemporaryDirectory(prefix="mazegen-score-") as temp:
+        build(resolved, Path(temp))
+        problem = Problem.from_build_dir(Path(temp))
+        population = population_from_document(resolved, problem.table, document, str(scenario))
+        fitness, terms = problem.score(population)
+    value = float(fitness[0])
+    click.echo(f"fitness\t{value:g}" if value != float("-inf") else "fitness\tinvalid (rejected by the spec)")
+    click.echo(f"elements\t{int(population.n_elements[0])}")
+    for key, values in terms.items():
+        click.echo(f"{key}\t{float(values[0]) + 0.0:g}")  # + 0.0 turns -0.0 into 0.0

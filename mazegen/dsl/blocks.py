@@ -1,0 +1,213 @@
+"""Arena, scenario, fitness and evolution blocks of a ``.maze`` model → Spec parts."""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
+from mazegen.spec import Arena, Evolution, FitnessTerm, GrammarPlacement, Scenario
+
+_WORD = re.compile(r"\w")
+
+
+def convert_arena(decl: Any) -> Arena:
+    """Check one ``arena`` block and convert it."""
+    what = f"arena '{decl.name}'"
+    props = single_properties(decl.properties, what)
+    for key, example in (("ArenaSize", "size 1400 x 1050 cm"), ("StartProperty", "start (60, 60)"),
+                         ("GoalProperty", "goal (1340, 990)")):
+        if key not in props:
+            fail(decl, f"{what} has no {example.split()[0]} (add e.g. '{example}')")
+    size = props["ArenaSize"]
+    if size.width <= 0 or size.height <= 0:
+        fail(size, f"arena size must be positive, got {size.width:g} x {size.height:g}")
+    radius = props["RobotProperty"].radius if "RobotProperty" in props else 0.0
+    if radius < 0:
+        fail(props["RobotProperty"], f"robot radius must not be negative, got {radius:g}")
+    points = {}
+    for key, label in (("StartProperty", "start"), ("GoalProperty", "goal")):
+        point = props[key].point
+        x, y = point.x, point.y
+        if not (0 <= x <= size.width and 0 <= y <= size.height):
+            fail(point, f"{label} ({x:g}, {y:g}) is outside the arena {size.width:g} x {size.height:g}")
+        if min(x, y, size.width - x, size.height - y) < radius:
+            fail(point, f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}")
+        points[label] = (x, y)
+    if points["start"] == points["goal"]:
+        fail(props["GoalProperty"], "start and goal are the same point")
+    return Arena(decl.name, size.width, size.height, size.unit or "cm",
+                 points["start"], points["goal"], radius)
+
+
+def _int_values(obj: Any, what: str, *, minimum: int) -> tuple[int, ...]:
+    step = obj.step if obj.step is not None else 1
+    if step <= 0:
+        fail(obj, f"{what} step must be positive, got {step}")
+    check_range(obj, obj.low, obj.high, what, positive=False)
+    if obj.low < minimum:
+        fail(obj, f"{what} must be at least {minimum}, got {obj.low}")
+    return tuple(range(obj.low, obj.high + 1, step))
+
+
+def _bnf_text(symbol: Any) -> str:
+    kind = type(symbol).__name__
+    if kind == "RuleUse":
+        return symbol.name
+    if kind == "ElementUse":
+        return symbol.name
+    text = symbol.text
+    if text == "":
+        fail(symbol, "empty text in a grammar rule")
+    if '"' in text and "'" in text:
+        fail(symbol, "grammar text cannot hold both kinds of quote")
+    return f"'{text}'" if '"' in text else f'"{text}"'
+
+
+def _bnf_alternative(alternative: Any) -> str:
+    pieces: list[str] = []
+    for symbol in alternative.symbols:
+        text = _bnf_text(symbol)
+        # Two adjacent words would fuse into one (`cobot router`); keep them apart.
+        if pieces and type(symbol).__name__ == "ElementUse" and _WORD.match(pieces[-1][-1]):
+            pieces.append(" ")
+        pieces.append(text)
+    return "".join(pieces)
+
+
+def _custom_rules(grammar: Any, known_elements: dict[str, Any]) -> tuple[tuple, list[str]]:
+    rules: dict[str, Any] = {}
+    for rule in grammar.rules:
+        if rule.lhs in rules:
+            fail(rule, f"rule {rule.lhs} is defined twice (first at {where(rules[rule.lhs])})")
+        rules[rule.lhs] = rule
+    used: list[str] = []
+    for rule in grammar.rules:
+        for alternative in rule.alternatives:
+            for symbol in alternative.symbols:
+                kind = type(symbol).__name__
+                if kind == "RuleUse" and symbol.name not in rules:
+                    fail(symbol, f"rule {symbol.name} is used but never defined{suggestion(symbol.name, rules)}")
+                if kind == "ElementUse":
+                    if symbol.name not in known_elements:
+                        fail(symbol, f"unknown element '{symbol.name}'{suggestion(symbol.name, known_elements)}")
+                    if symbol.name not in used:
+                        used.append(symbol.name)
+    converted = tuple((r.lhs, tuple(_bnf_alternative(a) for a in r.alternatives)) for r in grammar.rules)
+    return converted, used
+
+
+def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, Any],
+                     genome: int) -> Scenario:
+    """Check the ``scenario`` block against the declared arenas and elements."""
+    what = f"scenario '{decl.name}'"
+    if decl.arena not in arenas:
+        fail(decl, f"unknown arena '{decl.arena}'{suggestion(decl.arena, arenas)}")
+    arena = arenas[decl.arena]
+    props = single_properties(decl.properties, what)
+    names: list[str] = []
+    if "ElementsProperty" in props:
+        for use in props["ElementsProperty"].elements:
+            if use.name not in elements:
+                fail(use, f"unknown element '{use.name}'{suggestion(use.name, elements)}")
+            if use.name in names:
+                fail(use, f"element '{use.name}' is listed twice")
+            names.append(use.name)
+    grammar = props.get("GrammarProperty")
+    style = grammar.style if grammar is not None else "nested"
+    custom: tuple = ()
+    if style == "custom":
+        custom, used = _custom_rules(grammar, elements)
+        for name in used:
+            if names and name not in names:
+                fail(props["ElementsProperty"], f"the grammar uses '{name}', which 'elements' does not list")
+        names = names or used
+    if not names:
+        fail(decl, f"{what} names no elements (add e.g. 'elements cobot, router')")
+    max_elements = props["MaxElementsProperty"].value if "MaxElementsProperty" in props else genome
+    if max_elements < 1:
+        fail(props["MaxElementsProperty"], f"max elements must be at least 1, got {max_elements}")
+    placement = None
+    prop = props.get("PlacementProperty")
+    if prop is not None and not prop.genes:
+        sizes = _int_values(prop.sizes, "sizes", minimum=1)
+        positions = _int_values(prop.positions, "positions", minimum=0)
+        if positions[-1] > min(arena.width, arena.height):
+            fail(prop.positions, f"positions up to {positions[-1]} go beyond the arena "
+                                 f"{arena.width:g} x {arena.height:g}")
+        scale = prop.scale if prop.scale is not None else 1.0
+        if scale <= 0:
+            fail(prop, f"scale must be positive, got {scale:g}")
+        placement = GrammarPlacement(sizes, scale, positions)
+    return Scenario(decl.name, decl.arena, tuple(names), style, custom, max_elements, placement)
+
+
+def convert_fitness(decl: Any | None) -> tuple[FitnessTerm, ...]:
+    """Check the ``fitness`` block; without one the fitness is the element count."""
+    if decl is None or not decl.terms:
+        return (FitnessTerm("count"),)
+    seen: dict[str, Any] = {}
+    terms = []
+    for term in decl.terms:
+        kind = {"size": "size_limit"}.get(term.kind, term.kind)
+        if kind in seen:
+            fail(term, f"duplicate fitness term '{term.kind}' (first given at {where(seen[kind])})")
+        seen[kind] = term
+        weight = term.weight if term.weight is not None else 1.0
+        if weight < 0:
+            fail(term, f"weight must not be negative, got {weight:g}")
+        limit = getattr(term, "limit", None)
+        if limit is not None and limit <= 0:
+            fail(term, f"size limit must be positive, got {limit:g}")
+        reject = bool(getattr(term, "reject", False))
+        if kind == "size_limit" and getattr(term, "allow", False):
+            fail(term, "a size limit needs 'reject' or 'penalty W'")
+        if kind == "outside" and getattr(term, "allow", False):
+            weight = 0.0
+        terms.append(FitnessTerm(kind, weight, limit, reject))
+    return tuple(terms)
+
+
+def convert_evolution(decl: Any | None) -> Evolution:
+    """Check the ``evolution`` block against the bounds each setting must respect."""
+    if decl is None:
+        return Evolution()
+    props = single_properties(decl.settings, "evolution")
+    values: dict[str, Any] = {}
+    minimum = {"population": 1, "generations": 0, "genome": 1, "elitism": 0, "runs": 1,
+               "seed": 0, "wraps": 0, "best": 1}
+    for key, low in minimum.items():
+        if key in props:
+            value = props[key].value
+            if value < low:
+                fail(props[key], f"{key} must be at least {low}, got {value}")
+            values[key] = value
+    for key in ("crossover", "mutation"):
+        if key in props:
+            rate = props[key].value
+            if not 0 <= rate <= 1:
+                fail(props[key], f"{key} rate must be within [0, 1], got {rate:g}")
+            values[key] = rate
+    selection = props.get("SelectionSetting")
+    if selection is not None:
+        if selection.tournament is not None:
+            if selection.tournament < 1:
+                fail(selection, f"tournament size must be at least 1, got {selection.tournament}")
+            values.update(selection="tournament", tournament=selection.tournament)
+        else:
+            if not 0 < selection.fraction <= 1:
+                fail(selection, f"selection must be within (0, 1], got {selection.fraction:g}")
+            values.update(selection="truncation", truncation=selection.fraction)
+    if "CodonSetting" in props:
+        codons = props["CodonSetting"].range
+        if codons.low != 0 or codons.high < 1 or codons.step is not None:
+            fail(codons, f"codons must be written 0..MAX with MAX at least 1, got {codons.low}..{codons.high}")
+        values["codon_max"] = codons.high
+    if "ConsumeSetting" in props:
+        values["consume"] = props["ConsumeSetting"].mode
+    evolution = Evolution(**values)
+    if evolution.elitism >= evolution.population:
+        fail(props["elitism"], f"elitism {evolution.elitism} must be below the population {evolution.population}")
+    if evolution.selection == "tournament" and evolution.tournament > evolution.population:
+        fail(selection, f"tournament {evolution.tournament} is larger than the population {evolution.population}")
+    return evolution

@@ -1,0 +1,85 @@
+"""Element declarations of a ``.maze`` model → :class:`ElementType`."""
+
+from __future__ import annotations
+
+import re
+from typing import Any
+
+from mazegen.dsl import shapes
+from mazegen.dsl.located import check_range, fail, single_properties
+from mazegen.spec import ElementType, Part
+
+_COLOUR = re.compile(r"#[0-9a-fA-F]{3}|#[0-9a-fA-F]{6}|[a-zA-Z]{3,20}")
+
+
+def _parts(shape: Any) -> tuple[Part, ...]:
+    kind = shape.kind
+    try:
+        if kind in ("rect", "square"):
+            return shapes.rect_parts() if kind == "rect" else shapes.square_parts()
+        if kind == "triangle":
+            return shapes.triangle_parts()
+        if kind == "polygon":
+            if shape.sides < 3:
+                fail(shape, f"a regular polygon needs at least 3 sides, got {shape.sides}")
+            return shapes.regular_polygon_parts(shape.sides)
+        if kind == "points":
+            return shapes.polygon_parts([(p.x, p.y) for p in shape.points])
+        if shape.thickness <= 0:
+            fail(shape, f"bar thickness must be positive, got {shape.thickness:g}")
+        segments = [((s.start.x, s.start.y), (s.end.x, s.end.y)) for s in shape.segments]
+        return shapes.bar_parts(segments, shape.thickness)
+    except ValueError as error:
+        fail(shape, f"bad {kind} shape: {error}")
+
+
+def _range(obj: Any, what: str) -> tuple[float, float]:
+    low = obj.low
+    high = low if obj.high is None else obj.high
+    check_range(obj, low, high, what)
+    return (low, high)
+
+
+def _rotation(prop: Any | None) -> dict[str, Any]:
+    if prop is None:
+        return {}
+    if prop.free:
+        return {"rotation_range": (0.0, 360.0)}
+    if prop.range is not None:
+        check_range(prop.range, prop.range.low, prop.range.high, "rotation", positive=False)
+        return {"rotation_range": (prop.range.low, prop.range.high)}
+    return {"rotations": tuple(float(a) for a in prop.angles)}
+
+
+def convert_element(decl: Any) -> ElementType:
+    """Check one ``element`` block and convert it."""
+    what = f"element '{decl.name}'"
+    props = single_properties(decl.properties, what)
+    if "ShapeProperty" not in props:
+        fail(decl, f"{what} has no shape (add e.g. 'shape rect')")
+    if "SizeProperty" not in props:
+        fail(decl, f"{what} has no size (add e.g. 'size 20..60')")
+    shape = props["ShapeProperty"].shape
+    size_prop = props["SizeProperty"]
+    size = _range(size_prop.size, "size")
+    size2 = None
+    if shape.kind == "rect":
+        if size_prop.depth is None:
+            fail(size_prop, f"{what} is a rect: give 'size WIDTH x DEPTH', e.g. 'size 10..20 x 100..300'")
+        size2 = _range(size_prop.depth, "depth")
+    elif size_prop.depth is not None:
+        fail(size_prop.depth, f"only a rect takes a depth; {what} is a {shape.kind}")
+    extras: dict[str, Any] = _rotation(props.get("RotationProperty"))
+    if "ColourProperty" in props:
+        colour = props["ColourProperty"].colour
+        if not _COLOUR.fullmatch(colour):
+            fail(props["ColourProperty"], f"bad colour {colour!r} (use #rgb, #rrggbb or a colour name)")
+        extras["colour"] = colour
+    if "ClassProperty" in props:
+        extras["semantic_class"] = props["ClassProperty"].semantic
+    if "HeightProperty" in props:
+        height = props["HeightProperty"].height
+        if height <= 0:
+            fail(props["HeightProperty"], f"height must be positive, got {height:g}")
+        extras["height"] = height
+    return ElementType(name=decl.name, shape=shape.kind, parts=_parts(shape), size=size, size2=size2, **extras)

@@ -1,0 +1,206 @@
+"""Read ``.maze`` files, follow their imports and build a :class:`Spec`."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from collections.abc import Iterator
+from contextvars import ContextVar
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from textx.exceptions import TextXSemanticError, TextXSyntaxError
+
+from mazegen.dsl.blocks import convert_arena, convert_evolution, convert_fitness, convert_scenario
+from mazegen.dsl.elements import convert_element
+from mazegen.dsl.language import metamodel
+from mazegen.dsl.located import fail, suggestion, where
+from mazegen.dsl.syntax_errors import syntax_error
+from mazegen.errors import MazeError
+from mazegen.spec import Spec
+
+LIBRARY_DIR = Path(__file__).resolve().parent.parent / "library"
+
+# Set while this module parses, so the textX model processor does not check twice.
+loading: ContextVar[bool] = ContextVar("loading", default=False)
+
+
+@contextlib.contextmanager
+def _loading() -> Iterator[None]:
+    token = loading.set(True)
+    try:
+        yield
+    finally:
+        loading.reset(token)
+
+
+@dataclass(frozen=True)
+class ParsedFile:
+    """A parsed ``.maze`` file: its textX model and where it came from."""
+
+    path: Path
+    label: str
+    model: Any
+
+
+def bundled_libraries() -> list[str]:
+    """Names of the element libraries shipped with MazeGen."""
+    return sorted(p.stem for p in LIBRARY_DIR.glob("*.maze"))
+
+
+def _label(path: Path) -> str:
+    if path.is_relative_to(LIBRARY_DIR):
+        return f"<mazegen>/library/{path.name}"
+    with contextlib.suppress(ValueError):
+        relative = os.path.relpath(path)
+        if not relative.startswith(".."):
+            return relative
+    return str(path)
+
+
+def parse_file(path: Path) -> ParsedFile:
+    """Parse one file; syntax errors become a located :class:`MazeError`."""
+    path = path.resolve()
+    label = _label(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise MazeError(f"cannot read spec: {error.strerror or error}", filename=label) from None
+    with _loading():
+        try:
+            model = metamodel().model_from_str(text, file_name=label)
+        except TextXSyntaxError as error:
+            raise syntax_error(error, text, label) from None
+        except TextXSemanticError as error:
+            raise MazeError(error.message, filename=label, line=error.line, col=error.col) from None
+    return ParsedFile(path, label, model)
+
+
+def _resolve_import(imp: Any, importer: Path) -> Path:
+    if imp.library is not None:
+        candidate = LIBRARY_DIR / f"{imp.library}.maze"
+        if not candidate.is_file():
+            fail(imp, f"unknown library '{imp.library}'{suggestion(imp.library, bundled_libraries())}"
+                      f" (bundled: {', '.join(bundled_libraries())}; import a file with a quoted path)")
+        return candidate
+    candidate = (importer.parent / imp.path).resolve()
+    if not candidate.is_file():
+        fail(imp, f"imported file '{imp.path}' not found")
+    return candidate
+
+
+def _collect(main: ParsedFile) -> list[ParsedFile]:
+    """The main file followed by every file it imports, each once (cycles allowed)."""
+    files = [main]
+    seen = {main.path}
+    queue = [main]
+    while queue:
+        current = queue.pop(0)
+        for imp in current.model.imports:
+            path = _resolve_import(imp, current.path)
+            if path not in seen:
+                seen.add(path)
+                parsed = parse_file(path)
+                files.append(parsed)
+                queue.append(parsed)
+    return files
+
+
+def spec_from_files(files: list[ParsedFile]) -> Spec:
+    """Check and convert the main file (``files[0]``) and its imports."""
+    main = files[0]
+    element_decls: dict[str, Any] = {}
+    arena_decls: dict[str, Any] = {}
+    singles: dict[str, Any] = {}
+    for parsed in files:
+        for decl in parsed.model.declarations:
+            kind = type(decl).__name__
+            if kind in ("ElementDecl", "ArenaDecl"):
+                table = element_decls if kind == "ElementDecl" else arena_decls
+                if decl.name in table:
+                    fail(decl, f"'{decl.name}' is already declared at {where(table[decl.name])}")
+                table[decl.name] = decl
+            elif parsed is not main:
+                fail(decl, f"an imported file may declare only elements and arenas; {main.label} "
+                           "holds the scenario, fitness and evolution")
+            elif kind in singles:
+                fail(decl, f"only one {kind.removesuffix('Decl').lower()} block per file "
+                           f"(first at {where(singles[kind])})")
+            else:
+                singles[kind] = decl
+    if "ScenarioDecl" not in singles:
+        raise MazeError("no scenario declared (a spec needs 'scenario NAME on ARENA { ... }')",
+                        filename=main.label)
+    evolution = convert_evolution(singles.get("EvolutionDecl"))
+    arenas = {name: convert_arena(decl) for name, decl in arena_decls.items()}
+    scenario = convert_scenario(singles["ScenarioDecl"], arenas, element_decls, evolution.genome)
+    # Every declared element is checked, used or not, so a library's mistakes surface.
+    converted = {name: convert_element(decl) for name, decl in element_decls.items()}
+    elements = tuple(converted[name] for name in scenario.elements)
+    return Spec(
+        name=scenario.name,
+        source=main.label,
+        elements=elements,
+        arena=arenas[scenario.arena],
+        scenario=scenario,
+        fitness=convert_fitness(singles.get("FitnessDecl")),
+        evolution=evolution,
+    )
+
+
+def check_library(files: list[ParsedFile]) -> None:
+    """Check a file that declares no scenario (an element library)."""
+    for parsed in files:
+        for decl in parsed.model.declarations:
+            kind = type(decl).__name__
+            if kind == "ElementDecl":
+                convert_element(decl)
+            elif kind == "ArenaDecl":
+                convert_arena(decl)
+
+
+def load_spec(path: str | os.PathLike[str]) -> Spec:
+    """Load, check and convert a ``.maze`` spec into a :class:`Spec`.
+
+    Raises:
+        MazeError: located at the user's line for any mistake.
+    """
+    return spec_from_files(_collect(parse_file(_existing(path))))
+
+
+def check_file(path: str | os.PathLike[str]) -> None:
+    """Check a spec or a library file (a file without a scenario is a library)."""
+    files = _collect(parse_file(_existing(path)))
+    if any(type(d).__name__ == "ScenarioDecl" for d in files[0].model.declarations):
+        spec_from_files(files)
+    else:
+        check_library(files)
+
+
+def _files_of_model(model: Any) -> list[ParsedFile]:
+    path = Path(model._tx_filename or "model.maze")
+    return _collect(ParsedFile(path.resolve(), model._tx_filename or "<string>", model))
+
+
+def check_model(model: Any) -> None:
+    """Check an already parsed main model (used by the textX model processor)."""
+    with _loading():
+        files = _files_of_model(model)
+        if any(type(d).__name__ == "ScenarioDecl" for d in model.declarations):
+            spec_from_files(files)
+        else:
+            check_library(files)
+
+
+def spec_from_model(model: Any) -> Spec:
+    """The :class:`Spec` of a model parsed by textX itself (``textx generate``)."""
+    with _loading():
+        return spec_from_files(_files_of_model(model))
+
+
+def _existing(path: str | os.PathLike[str]) -> Path:
+    p = Path(path)
+    if not p.is_file():
+        raise MazeError("no such spec file", filename=str(path))
+    return p

@@ -1,0 +1,57 @@
+"""Helpers that tie semantic errors to the user's own lines."""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+from typing import Any, NoReturn
+
+from textx import get_location
+
+from mazegen.errors import MazeError
+
+
+def fail(obj: Any, message: str) -> NoReturn:
+    """Raise a :class:`MazeError` located at the textX object ``obj``."""
+    where = get_location(obj)
+    raise MazeError(message, filename=where["filename"], line=where["line"], col=where["col"])
+
+
+def where(obj: Any) -> str:
+    """``file:line:col`` of a textX object, for messages that point elsewhere."""
+    loc = get_location(obj)
+    return f"{loc['filename']}:{loc['line']}:{loc['col']}"
+
+
+def suggestion(name: str, known: Iterable[str]) -> str:
+    """`` (did you mean 'x'?)`` when a known name is close to ``name``."""
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def single_properties(properties: Iterable[Any], what: str) -> dict[str, Any]:
+    """Index properties by their textX class (or ``key``), rejecting duplicates.
+
+    Args:
+        properties: textX property objects of one block.
+        what: Block description used in the message (``element 'cobot'``).
+    """
+    found: dict[str, Any] = {}
+    for prop in properties:
+        key = getattr(prop, "key", None) or type(prop).__name__
+        if key in found:
+            fail(prop, f"duplicate {_label(key)} in {what} (first given at {where(found[key])})")
+        found[key] = prop
+    return found
+
+
+def _label(key: str) -> str:
+    return "'" + key.removesuffix("Property").removesuffix("Setting").lower() + "'"
+
+
+def check_range(obj: Any, low: float, high: float, what: str, *, positive: bool = True) -> None:
+    """Reject inverted ranges and, optionally, non-positive bounds."""
+    if high < low:
+        fail(obj, f"empty {what} range {low:g}..{high:g} (low is above high)")
+    if positive and low <= 0:
+        fail(obj, f"{what} must be positive, got {low:g}")

@@ -1,0 +1,89 @@
+"""Spec → build directory: grammar.bnf, fitness.py, experiment.py and spec.json."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from jinja2 import Environment, PackageLoader, StrictUndefined
+
+from mazegen import __version__
+from mazegen.fileio import write_atomic
+from mazegen.generator.grammar import scenario_rules
+from mazegen.spec import FitnessTerm, Spec
+
+ARTIFACTS = ("grammar.bnf", "fitness.py", "experiment.py", "spec.json")
+
+
+@dataclass(frozen=True)
+class TermLine:
+    """One rendered fitness term: its key, Python expression and a comment."""
+
+    key: str
+    expression: str
+    note: str
+
+
+def _environment() -> Environment:
+    env = Environment(
+        loader=PackageLoader("mazegen", "templates"),
+        undefined=StrictUndefined,
+        keep_trailing_newline=True,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        autoescape=False,
+    )
+    # Every literal reaches generated Python through repr, so no spec text can inject code.
+    env.filters["pyrepr"] = repr
+    return env
+
+
+def _metric(term: FitnessTerm) -> tuple[str, str]:
+    """The metric call of a term and a short note on where it comes from."""
+    if term.kind == "count":
+        return "metrics.element_count(pop)", "paper eq. 1: number of elements"
+    if term.kind == "overlap":
+        return "metrics.overlapping_pairs(pop)", "paper eq. 2: pairs of overlapping elements"
+    if term.kind == "size_limit":
+        return (f"metrics.elements_over_size(pop, {float(term.limit)!r})",  # type: ignore[arg-type]
+                "paper v1.5: elements over the size limit")
+    return "metrics.elements_outside(pop)", "elements not wholly inside the arena"
+
+
+def fitness_lines(spec: Spec) -> tuple[list[TermLine], list[TermLine]]:
+    """Split the spec's terms into scored lines and rejection tests."""
+    penalised: list[TermLine] = []
+    rejecting: list[TermLine] = []
+    for term in spec.fitness:
+        call, note = _metric(term)
+        if term.reject:
+            rejecting.append(TermLine(term.kind, call, note + " (reject)"))
+        elif term.weight != 0:
+            sign = "" if term.kind == "count" else "-"
+            penalised.append(TermLine(term.kind, f"{sign}{float(term.weight)!r} * {call}", note))
+    return penalised, rejecting
+
+
+def render_artifacts(spec: Spec) -> dict[str, str]:
+    """Render every build artifact of ``spec`` as text, keyed by file name."""
+    env = _environment()
+    context = {"name": spec.name, "version": __version__}
+    penalised, rejecting = fitness_lines(spec)
+    return {
+        "grammar.bnf": env.get_template("grammar.bnf.jinja").render(
+            rules=scenario_rules(spec), style=spec.scenario.grammar, **context),
+        "fitness.py": env.get_template("fitness.py.jinja").render(
+            penalised=penalised, rejecting=rejecting, **context),
+        "experiment.py": env.get_template("experiment.py.jinja").render(**context),
+        "spec.json": spec.to_json(),
+    }
+
+
+def build(spec: Spec, out_dir: Path) -> list[Path]:
+    """Write the build artifacts of ``spec`` into ``out_dir`` (atomically, file by file)."""
+    written = []
+    for name, text in render_artifacts(spec).items():
+        path = out_dir / name
+        write_atomic(path, text)
+        written.append(path)
+    return written

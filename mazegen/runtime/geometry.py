@@ -1,0 +1,339 @@
+"""Geometry kernels over whole populations: element overlaps and arena containment.
+
+A population of ``N`` individuals with at most ``K`` elements each is stored as
+
+* ``element_ids`` int32[N, K]: element type ids (rows of an :class:`ElementTable`),
+  ``-1`` padding after the used entries;
+* ``n_elements`` int32[N]: how many leading entries of each row are used;
+* ``params`` float64[N, K, 5]: ``(x, y, sx, sy, theta)``, theta in radians,
+  counter-clockwise; ``sx`` and ``sy`` are positive.
+
+A part vertex in the world is ``R(theta) · (u · (sx, sy) + o) + (x, y)`` (see
+:mod:`mazegen.spec`). The kernels run in parallel over blocks of individuals;
+each block owns a scratch buffer for the world vertices of one individual, so
+nothing of size N×K×P×V is ever built.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import math
+
+import numba
+import numpy as np
+from numba import njit, prange
+
+from mazegen.spec import ElementType
+
+
+@dataclass(frozen=True)
+class ElementTable:
+    """The parts of every element type as padded arrays (E types, P parts, V vertices).
+
+    Attributes:
+        n_parts: int32[E], number of parts of each type.
+        n_vertices: int32[E, P], number of vertices of each part (0 for padding).
+        unit: float64[E, P, V, 2], unit coordinates, zero padded.
+        offset: float64[E, P, V, 2], absolute offsets, zero padded.
+        unit_radius: float64[E], largest ``|u|`` of a type's vertices.
+        offset_radius: float64[E], largest ``|o|``; an element lies within
+            ``unit_radius · max(sx, sy) + offset_radius`` of its position.
+    """
+
+    n_parts: np.ndarray
+    n_vertices: np.ndarray
+    unit: np.ndarray
+    offset: np.ndarray
+    unit_radius: np.ndarray
+    offset_radius: np.ndarray
+
+    @classmethod
+    def from_types(cls, types: Sequence[ElementType]) -> ElementTable:
+        """Build the table; the id of a type is its index in ``types``."""
+        n_p = max((len(t.parts) for t in types), default=1)
+        n_v = max((len(p.unit) for t in types for p in t.parts), default=3)
+        n_parts = np.zeros(len(types), np.int32)
+        n_vertices = np.zeros((len(types), n_p), np.int32)
+        unit = np.zeros((len(types), n_p, n_v, 2))
+        offset = np.zeros((len(types), n_p, n_v, 2))
+        for e, element_type in enumerate(types):
+            n_parts[e] = len(element_type.parts)
+            for p, part in enumerate(element_type.parts):
+                n_vertices[e, p] = len(part.unit)
+                unit[e, p, : len(part.unit)] = part.unit
+                offset[e, p, : len(part.offset)] = part.offset
+        unit_radius = np.hypot(unit[..., 0], unit[..., 1]).reshape(len(types), -1).max(axis=1, initial=0.0)
+        offset_radius = np.hypot(offset[..., 0], offset[..., 1]).reshape(len(types), -1).max(axis=1, initial=0.0)
+        return cls(n_parts, n_vertices, unit, offset, unit_radius, offset_radius)
+
+
+def overlapping_pairs(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
+                      params: np.ndarray) -> np.ndarray:
+    """Count, per individual, the element pairs whose interiors intersect.
+
+    Two elements overlap when any part of one overlaps any part of the other
+    (exact separating-axis test); touching boundaries do not count.
+
+    Returns:
+        int32[N] pair counts.
+    """
+    ids, n_el, prm = _population(element_ids, n_elements, params)
+    out = np.zeros(ids.shape[0], np.int32)
+    if ids.shape[0]:
+        _overlap_kernel(table.n_parts, table.n_vertices, table.unit, table.offset, table.unit_radius,
+                        table.offset_radius, ids, n_el, prm, _blocks(ids.shape[0]), out)
+    return out
+
+
+def elements_outside(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
+                     params: np.ndarray, width: float, height: float) -> np.ndarray:
+    """Count, per individual, the elements with a vertex outside ``[0, width] × [0, height]``.
+
+    Returns:
+        int32[N] element counts.
+    """
+    ids, n_el, prm = _population(element_ids, n_elements, params)
+    out = np.zeros(ids.shape[0], np.int32)
+    if ids.shape[0]:
+        _outside_kernel(table.n_parts, table.n_vertices, table.unit, table.offset,
+                        ids, n_el, prm, float(width), float(height), _blocks(ids.shape[0]), out)
+    return out
+
+
+def element_bounds(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
+                   params: np.ndarray) -> np.ndarray:
+    """World bounding boxes of every element.
+
+    Returns:
+        float64[N, K, 4] as ``(xmin, ymin, xmax, ymax)``, NaN for padding.
+    """
+    ids, n_el, prm = _population(element_ids, n_elements, params)
+    out = np.full((*ids.shape, 4), np.nan)
+    if ids.shape[0]:
+        _bounds_kernel(table.n_parts, table.n_vertices, table.unit, table.offset,
+                       ids, n_el, prm, _blocks(ids.shape[0]), out)
+    return out
+
+
+def world_parts(table: ElementTable, element_id: int, param_row: Sequence[float]) -> list[np.ndarray]:
+    """World vertices of one element, one (n, 2) array per part, counter-clockwise."""
+    n_p, n_v = table.unit.shape[1:3]
+    wv = np.empty((1, n_p, n_v, 2))
+    pbox = np.empty((1, n_p, 4))
+    ebox = np.empty((1, 4))
+    x, y, sx, sy, theta = (float(v) for v in param_row)
+    _world_element(table.n_parts, table.n_vertices, table.unit, table.offset,
+                   int(element_id), x, y, sx, sy, theta, wv, pbox, ebox, 0)
+    return [wv[0, p, : table.n_vertices[element_id, p]].copy() for p in range(table.n_parts[element_id])]
+
+
+def _population(element_ids: np.ndarray, n_elements: np.ndarray,
+                params: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    ids = np.ascontiguousarray(element_ids, np.int32)
+    n_el = np.ascontiguousarray(n_elements, np.int32)
+    prm = np.ascontiguousarray(params, np.float64)
+    if ids.ndim != 2 or n_el.shape != ids.shape[:1] or prm.shape != (*ids.shape, 5):
+        raise ValueError(f"population arrays disagree: element_ids {ids.shape}, "
+                         f"n_elements {n_el.shape}, params {prm.shape}")
+    return ids, n_el, prm
+
+
+def _blocks(n: int) -> int:
+    """Blocks of individuals: a few per thread so uneven blocks balance out."""
+    return min(n, 4 * numba.get_num_threads())
+
+
+# Cephes sin/cos: polynomials on a quarter octant after an extended-precision
+# reduction; libm's sin and cos cost as much as all the rest of a transform.
+_FOUR_OVER_PI = 1.2732395447351628
+_DP1 = 7.85398125648498535156e-1
+_DP2 = 3.77489470793079817668e-8
+_DP3 = 2.69515142907905952645e-15
+
+
+@njit(cache=True, inline="always")
+def _sincos(x):
+    """Return ``(sin x, cos x)`` to about one ulp for ``|x| < 1e8``."""
+    sign = math.copysign(1.0, x)
+    x = abs(x)
+    j = int(x * _FOUR_OVER_PI)
+    j += j & 1
+    y = float(j)
+    z = ((x - y * _DP1) - y * _DP2) - y * _DP3
+    zz = z * z
+    ps = z + z * zz * (((((1.58962301576546568060e-10 * zz - 2.50507477628578072866e-8) * zz
+                           + 2.75573136213857245213e-6) * zz - 1.98412698295895385996e-4) * zz
+                         + 8.33333333332211858878e-3) * zz - 1.66666666666666307295e-1)
+    pc = 1.0 - 0.5 * zz + zz * zz * (((((-1.13585365213876817300e-11 * zz + 2.08757008419747316778e-9) * zz
+                                        - 2.75573141792967388112e-7) * zz + 2.48015872888517045348e-5) * zz
+                                      - 1.38888888888730564116e-3) * zz + 4.16666666666665929218e-2)
+    # Octants 0, 2, 4, 6 by arithmetic rather than branches (theta is random).
+    swap = (j >> 1) & 1
+    s = (pc if swap else ps) * sign * (1 - 2 * ((j >> 2) & 1))
+    c = (ps if swap else pc) * (1 - 2 * (((j >> 1) ^ (j >> 2)) & 1))
+    return s, c
+
+
+@njit(cache=True, inline="always")
+def _world_element(n_parts, n_vertices, unit, offset, e, x, y, sx, sy, theta, wv, pbox, ebox, k):
+    """Write element ``e``'s world vertices, part boxes and box to ``wv[k]``, ``pbox[k]``, ``ebox[k]``."""
+    s, c = _sincos(theta)
+    exmin = np.inf
+    eymin = np.inf
+    exmax = -np.inf
+    eymax = -np.inf
+    for p in range(n_parts[e]):
+        xmin = np.inf
+        ymin = np.inf
+        xmax = -np.inf
+        ymax = -np.inf
+        for v in range(n_vertices[e, p]):
+            lx = unit[e, p, v, 0] * sx + offset[e, p, v, 0]
+            ly = unit[e, p, v, 1] * sy + offset[e, p, v, 1]
+            wx = x + c * lx - s * ly
+            wy = y + s * lx + c * ly
+            wv[k, p, v, 0] = wx
+            wv[k, p, v, 1] = wy
+            xmin = min(xmin, wx)
+            ymin = min(ymin, wy)
+            xmax = max(xmax, wx)
+            ymax = max(ymax, wy)
+        pbox[k, p, 0] = xmin
+        pbox[k, p, 1] = ymin
+        pbox[k, p, 2] = xmax
+        pbox[k, p, 3] = ymax
+        exmin = min(exmin, xmin)
+        eymin = min(eymin, ymin)
+        exmax = max(exmax, xmax)
+        eymax = max(eymax, ymax)
+    ebox[k, 0] = exmin
+    ebox[k, 1] = eymin
+    ebox[k, 2] = exmax
+    ebox[k, 3] = eymax
+
+
+@njit(cache=True, inline="always")
+def _boxes_meet(box, i, other, j):
+    """True if two boxes' interiors intersect (touching boxes do not meet).
+
+    Non-short-circuit ``&``: random boxes make the branches of ``and``
+    unpredictable, which cost more than the comparisons.
+    """
+    return ((box[i, 0] < other[j, 2]) & (other[j, 0] < box[i, 2])
+            & (box[i, 1] < other[j, 3]) & (other[j, 1] < box[i, 3]))
+
+
+@njit(cache=True, inline="always")
+def _edge_separates(wv, ka, pa, na, kb, pb, nb):
+    """True if some edge line of convex CCW polygon A has all of B on its outer side.
+
+    For convex polygons this one-sided test over the edges of A and of B is the
+    full separating-axis test: A's projection on an outward edge normal ends at
+    that edge. A vertex exactly on the line counts as outside, so touching
+    polygons are separated.
+    """
+    for i in range(na):
+        j = i + 1 if i + 1 < na else 0
+        x0 = wv[ka, pa, i, 0]
+        y0 = wv[ka, pa, i, 1]
+        nx = wv[ka, pa, j, 1] - y0  # outward normal of a CCW edge: (ey, -ex)
+        ny = x0 - wv[ka, pa, j, 0]
+        # A full min (no break) keeps the inner loop free of unpredictable branches.
+        lowest = np.inf
+        for v in range(nb):
+            lowest = min(lowest, (wv[kb, pb, v, 0] - x0) * nx + (wv[kb, pb, v, 1] - y0) * ny)
+        if lowest >= 0.0:
+            return True
+    return False
+
+
+@njit(cache=True, inline="always")
+def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox):
+    for pa in range(n_parts[ea]):
+        for pb in range(n_parts[eb]):
+            if not ((pbox[a, pa, 0] < pbox[b, pb, 2]) & (pbox[b, pb, 0] < pbox[a, pa, 2])
+                    & (pbox[a, pa, 1] < pbox[b, pb, 3]) & (pbox[b, pb, 1] < pbox[a, pa, 3])):
+                continue
+            na = n_vertices[ea, pa]
+            nb = n_vertices[eb, pb]
+            if not (_edge_separates(wv, a, pa, na, b, pb, nb) or _edge_separates(wv, b, pb, nb, a, pa, na)):
+                return True
+    return False
+
+
+@njit(parallel=True, cache=True)
+def _overlap_kernel(n_parts, n_vertices, unit, offset, unit_radius, offset_radius, ids, n_el, params,
+                    n_blocks, out):
+    n, k_max = ids.shape
+    for block in prange(n_blocks):
+        wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
+        pbox = np.empty((k_max, unit.shape[1], 4))
+        ebox = np.empty((k_max, 4))
+        radius = np.empty(k_max)
+        placed = np.empty(k_max, np.bool_)
+        pairs = np.empty((k_max * (k_max - 1) // 2, 2), np.int64)
+        for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
+            m = n_el[i]
+            for k in range(m):
+                radius[k] = unit_radius[ids[i, k]] * max(params[i, k, 2], params[i, k, 3]) \
+                    + offset_radius[ids[i, k]]
+                placed[k] = False
+            # Bounding circles need no trigonometry, so elements far from all
+            # others are never transformed. Candidates are collected without a
+            # branch: few circles meet, at random.
+            n_pairs = 0
+            for a in range(m):
+                for b in range(a + 1, m):
+                    dx = params[i, a, 0] - params[i, b, 0]
+                    dy = params[i, a, 1] - params[i, b, 1]
+                    reach = radius[a] + radius[b]
+                    pairs[n_pairs, 0] = a
+                    pairs[n_pairs, 1] = b
+                    n_pairs += dx * dx + dy * dy < reach * reach
+            count = 0
+            for q in range(n_pairs):
+                for side in range(2):
+                    k = pairs[q, side]
+                    if not placed[k]:
+                        _world_element(n_parts, n_vertices, unit, offset, ids[i, k], params[i, k, 0],
+                                       params[i, k, 1], params[i, k, 2], params[i, k, 3], params[i, k, 4],
+                                       wv, pbox, ebox, k)
+                        placed[k] = True
+                a = pairs[q, 0]
+                b = pairs[q, 1]
+                if _boxes_meet(ebox, a, ebox, b):
+                    count += _elements_overlap(n_parts, n_vertices, ids[i, a], a, ids[i, b], b, wv, pbox)
+            out[i] = count
+
+
+@njit(parallel=True, cache=True)
+def _bounds_kernel(n_parts, n_vertices, unit, offset, ids, n_el, params, n_blocks, out):
+    n, k_max = ids.shape
+    for block in prange(n_blocks):
+        wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
+        pbox = np.empty((k_max, unit.shape[1], 4))
+        for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
+            for k in range(n_el[i]):
+                _world_element(n_parts, n_vertices, unit, offset, ids[i, k], params[i, k, 0],
+                               params[i, k, 1], params[i, k, 2], params[i, k, 3], params[i, k, 4],
+                               wv, pbox, out[i], k)
+
+
+@njit(parallel=True, cache=True)
+def _outside_kernel(n_parts, n_vertices, unit, offset, ids, n_el, params, width, height, n_blocks, out):
+    n = ids.shape[0]
+    for block in prange(n_blocks):
+        wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
+        pbox = np.empty((1, unit.shape[1], 4))
+        ebox = np.empty((1, 4))
+        for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
+            count = 0
+            for k in range(n_el[i]):
+                _world_element(n_parts, n_vertices, unit, offset, ids[i, k], params[i, k, 0],
+                               params[i, k, 1], params[i, k, 2], params[i, k, 3], params[i, k, 4],
+                               wv, pbox, ebox, 0)
+                if ebox[0, 0] < 0.0 or ebox[0, 1] < 0.0 or ebox[0, 2] > width or ebox[0, 3] > height:
+                    count += 1
+            out[i] = count

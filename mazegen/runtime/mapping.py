@@ -1,0 +1,405 @@
+"""Genotype to phenotype mapping for grammatical evolution.
+
+A genome is a sequence of integer codons. Mapping is a leftmost (depth-first)
+derivation from the start rule: the leftmost non-terminal is expanded with the
+alternative ``codon % number_of_alternatives`` read from the next codon. Every
+symbol has a depth (the start symbol 1, children one more than their parent).
+
+Two rule sets, chosen by the options:
+
+* ``consume="eager", wraps=0`` (the default) is exactly PonyGE2's
+  ``map_ind_from_genome`` with ``MAX_WRAPS=0``, quirks included: a wrap is
+  counted when all ``n`` codons are used while a non-terminal is still on the
+  stack, and the loop ends only after the item being popped is processed, so a
+  non-terminal met right then still reads codon 0 (``used_codons`` is ``n + 1``
+  and the individual is invalid). One-alternative rules consume a codon.
+* Any other combination is the usual definition: ``consume="lazy"`` lets rules
+  with one alternative consume no codon (alogos' convention); codon ``i`` reads
+  ``genome[i % n]`` and mapping is invalid once more than ``n * (wraps + 1)``
+  codons would be needed (an empty genome has none).
+
+Both apply PonyGE2's depth limit: a popped symbol deeper than ``max_depth`` is
+still processed, then mapping stops, and it is valid only if nothing is left.
+
+:func:`map_genome` is the readable reference; :func:`map_population` maps a whole
+population with a numba kernel that gives the same results and extracts the
+scenario elements (see :func:`extract_elements`) on the fly.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numba import get_num_threads, njit, prange
+
+from mazegen.runtime.bnf import Grammar, Symbol
+
+NUMBERS_PER_ELEMENT = 4
+_TOKEN = re.compile(r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)|(?P<number>-?[0-9]+(?:\.[0-9]+)?)")
+# Character classes of the kernel's tokeniser (ASCII codes; other text is 0).
+_OTHER, _LETTER, _DIGIT, _MINUS, _DOT = 0, 1, 2, 3, 4
+_CLASSES = np.zeros(128, np.int8)
+_CLASSES[[ord(c) for c in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_"]] = _LETTER
+_CLASSES[[ord(c) for c in "0123456789"]] = _DIGIT
+_CLASSES[ord("-")], _CLASSES[ord(".")] = _MINUS, _DOT
+# Tokeniser states.
+_IDLE, _NAME, _SIGN, _INT, _POINT, _FRACTION = range(6)
+
+
+@dataclass(frozen=True)
+class MapResult:
+    """The outcome of mapping one genome.
+
+    Attributes:
+        phenotype: The derived string, or ``None`` when invalid.
+        valid: True when the derivation completed.
+        used_codons: Codons read (counting re-reads after wrapping).
+    """
+
+    phenotype: str | None
+    valid: bool
+    used_codons: int
+
+
+@dataclass(frozen=True)
+class CompiledGrammar:
+    """A grammar as flat arrays for the kernel (see :func:`compile_grammar`).
+
+    Symbols are ``int32`` codes: a rule index (``>= 0``) or ``-1 - terminal``.
+    Rule ``r`` owns alternatives ``rule_alts[r]:rule_alts[r + 1]``; alternative
+    ``a`` owns ``symbols[alt_symbols[a]:alt_symbols[a + 1]]`` and holds
+    ``alt_nonterminals[a]`` non-terminals. Terminal ``t`` is the ASCII codes
+    ``chars[term_chars[t]:term_chars[t + 1]]`` (other characters are 0).
+    ``trie[node, code]`` is the next node of the element-name trie (-1 none) and
+    ``trie_element[node]`` the element a name ending there denotes (-1 none).
+    """
+
+    element_names: tuple[str, ...]
+    start: int
+    max_alt_len: int
+    rule_alts: np.ndarray
+    alt_symbols: np.ndarray
+    alt_nonterminals: np.ndarray
+    symbols: np.ndarray
+    term_chars: np.ndarray
+    chars: np.ndarray
+    trie: np.ndarray
+    trie_element: np.ndarray
+
+
+@dataclass(frozen=True)
+class PopulationMap:
+    """What :func:`map_population` extracts from N genomes.
+
+    Attributes:
+        valid: ``bool[N]``; derivation completed with at most ``max_elements``.
+        used_codons: ``int32[N]``, as :attr:`MapResult.used_codons`.
+        n_elements: ``int32[N]``; 0 for invalid individuals.
+        element_ids: ``int32[N, max_elements]``, indices into the element
+            names, -1 padded.
+        numbers: ``float64[N, max_elements, 4]``: the numbers that follow each
+            element in the phenotype (the first four), NaN padded.
+    """
+
+    valid: np.ndarray
+    used_codons: np.ndarray
+    n_elements: np.ndarray
+    element_ids: np.ndarray
+    numbers: np.ndarray
+
+
+def _check_options(wraps: int, consume: str, max_depth: int) -> None:
+    if consume not in ("eager", "lazy"):
+        raise ValueError(f"consume must be 'eager' or 'lazy', not {consume!r}")
+    if wraps < 0 or max_depth < 1:
+        raise ValueError("wraps must be >= 0 and max_depth >= 1")
+
+
+def _codon_limit(n: int, wraps: int, consume: str) -> int:
+    """Codons that may be read: PonyGE2 reads one past the end (see module doc)."""
+    if consume == "eager" and wraps == 0:
+        return n + 1 if n else 0
+    return n * (wraps + 1)
+
+
+def map_genome(grammar: Grammar, genome: Sequence[int], *, wraps: int = 0, consume: str = "eager",
+               max_depth: int = 90) -> MapResult:
+    """Map one genome with the pure-Python reference mapper.
+
+    Args:
+        grammar: The grammar.
+        genome: Integer codons.
+        wraps: Extra passes over the genome allowed (0: PonyGE2-exact when eager).
+        consume: ``"eager"`` (every rule reads a codon, PonyGE2) or ``"lazy"``
+            (rules with a single alternative read none).
+        max_depth: Derivation depth limit (PonyGE2's ``MAX_TREE_DEPTH``).
+
+    Returns:
+        The phenotype (``None`` if invalid), validity and codons used.
+    """
+    _check_options(wraps, consume, max_depth)
+    codons = [int(c) for c in genome]
+    n = len(codons)
+    pony = consume == "eager" and wraps == 0
+    limit = _codon_limit(n, wraps, consume)
+    stack: list[tuple[Symbol, int]] = [(Symbol(grammar.start, True), 1)]  # leftmost item last
+    output: list[str] = []
+    used, deepest, pending = 0, 1, 1  # pending: non-terminals on the stack
+    while stack and deepest <= max_depth:
+        wrapped = pony and used > 0 and used % n == 0 and pending > 0
+        symbol, depth = stack.pop()
+        deepest = max(deepest, depth)
+        if not symbol.nonterminal:
+            output.append(symbol.text)
+        else:
+            pending -= 1
+            alternatives = grammar.rules[symbol.text]
+            if consume == "lazy" and len(alternatives) == 1:
+                chosen = alternatives[0]
+            elif used >= limit:
+                break
+            else:
+                chosen = alternatives[codons[used % n] % len(alternatives)]
+                used += 1
+            stack.extend((s, depth + 1) for s in reversed(chosen))
+            pending += sum(s.nonterminal for s in chosen)
+        if wrapped:
+            break
+    if stack:
+        return MapResult(None, False, used)
+    return MapResult("".join(output), True, used)
+
+
+def phenotype(grammar: Grammar, genome: Sequence[int], **options: object) -> str | None:
+    """The phenotype of ``genome`` (``None`` if invalid); options as :func:`map_genome`."""
+    return map_genome(grammar, genome, **options).phenotype  # type: ignore[arg-type]
+
+
+def extract_elements(text: str, element_names: Sequence[str]) -> list[tuple[int, tuple[float, ...]]]:
+    """Tokenise a phenotype into elements and their numbers (reference for the kernel).
+
+    Identifiers ``[A-Za-z_][A-Za-z0-9_]*`` equal to an element name are elements;
+    numbers ``-?[0-9]+(.[0-9]+)?`` outside identifiers attach, in order and at
+    most four, to the latest element; everything else is ignored.
+
+    Args:
+        text: A phenotype.
+        element_names: The element names; an element's id is its index.
+
+    Returns:
+        ``(element_id, numbers)`` for every element, in order.
+    """
+    ids = {name: i for i, name in enumerate(element_names)}
+    found: list[tuple[int, list[float]]] = []
+    for token in _TOKEN.finditer(text):
+        if token.lastgroup == "name":
+            if token.group() in ids:
+                found.append((ids[token.group()], []))
+        elif found and len(found[-1][1]) < NUMBERS_PER_ELEMENT:
+            found[-1][1].append(float(token.group()))
+    return [(element, tuple(numbers)) for element, numbers in found]
+
+
+def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledGrammar:
+    """Flatten a grammar into the arrays :func:`map_population` works on.
+
+    Args:
+        grammar: The grammar.
+        element_names: Element names recognised in terminals; id = index.
+
+    Returns:
+        The compiled grammar.
+
+    Raises:
+        ValueError: If an element name is not an ASCII identifier or repeats.
+    """
+    if len(set(element_names)) != len(element_names):
+        raise ValueError("element names repeat")
+    rule_ids = {name: i for i, name in enumerate(grammar.rules)}
+    terminals: dict[str, int] = {}
+    rule_alts, alt_symbols, alt_nts, symbols = [0], [0], [], []
+    for alternatives in grammar.rules.values():
+        for alternative in alternatives:
+            for s in alternative:
+                symbols.append(rule_ids[s.text] if s.nonterminal else -1 - terminals.setdefault(s.text, len(terminals)))
+            alt_symbols.append(len(symbols))
+            alt_nts.append(sum(s.nonterminal for s in alternative))
+        rule_alts.append(len(alt_symbols) - 1)
+    term_chars, chars = [0], []
+    for text in terminals:
+        chars.extend(ord(c) if ord(c) < 128 else 0 for c in text)
+        term_chars.append(len(chars))
+    trie = [[-1] * 128]
+    trie_element = [-1]
+    for element, name in enumerate(element_names):
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+            raise ValueError(f"element name {name!r} is not an identifier")
+        node = 0
+        for c in name:
+            if trie[node][ord(c)] < 0:
+                trie[node][ord(c)] = len(trie)
+                trie.append([-1] * 128)
+                trie_element.append(-1)
+            node = trie[node][ord(c)]
+        trie_element[node] = element
+    i32 = np.int32
+    return CompiledGrammar(
+        element_names=tuple(element_names), start=rule_ids[grammar.start],
+        max_alt_len=max(len(a) for alts in grammar.rules.values() for a in alts),
+        rule_alts=np.array(rule_alts, i32), alt_symbols=np.array(alt_symbols, i32),
+        alt_nonterminals=np.array(alt_nts, i32), symbols=np.array(symbols, i32),
+        term_chars=np.array(term_chars, i32), chars=np.array(chars, np.uint8),
+        trie=np.array(trie, i32), trie_element=np.array(trie_element, i32))
+
+
+def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int = 0, consume: str = "eager",
+                   max_elements: int, max_depth: int = 90) -> PopulationMap:
+    """Map every row of ``codons`` and extract its elements, in parallel.
+
+    Validity and ``used_codons`` equal :func:`map_genome` with the same options
+    (also when the element limit makes an individual invalid); the elements and
+    numbers equal :func:`extract_elements` of the reference phenotype.
+
+    Args:
+        compiled: The grammar from :func:`compile_grammar`.
+        codons: ``N x L`` integer array, one genome per row.
+        wraps: As :func:`map_genome`.
+        consume: As :func:`map_genome`.
+        max_elements: Element slots; an individual deriving more is invalid.
+        max_depth: As :func:`map_genome`.
+
+    Returns:
+        The population's arrays.
+    """
+    _check_options(wraps, consume, max_depth)
+    codons = np.ascontiguousarray(codons)
+    if codons.ndim != 2 or codons.dtype.kind not in "iu":
+        raise ValueError("codons must be a 2-D integer array")
+    if max_elements < 0:
+        raise ValueError("max_elements must be >= 0")
+    n = codons.shape[0]
+    result = PopulationMap(
+        valid=np.empty(n, np.bool_), used_codons=np.empty(n, np.int32), n_elements=np.empty(n, np.int32),
+        element_ids=np.empty((n, max_elements), np.int32),
+        numbers=np.empty((n, max_elements, NUMBERS_PER_ELEMENT), np.float64))
+    c = compiled
+    _map_all(codons, min(n, 8 * get_num_threads()), (max_depth + 3) * c.max_alt_len + 1,
+             c.start, c.rule_alts, c.alt_symbols, c.alt_nonterminals, c.symbols, c.term_chars, c.chars,
+             c.trie, c.trie_element, _CLASSES, consume == "lazy", consume == "eager" and wraps == 0,
+             _codon_limit(codons.shape[1], wraps, consume), max_depth,
+             result.valid, result.used_codons, result.n_elements, result.element_ids, result.numbers)
+    return result
+
+
+@njit(cache=True, parallel=True)
+def _map_all(codons, chunks, capacity, start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars,
+             trie, trie_element, classes, lazy, pony, limit, max_depth,
+             valid, used, n_elements, element_ids, numbers):  # pragma: no cover - compiled
+    """Map the population in ``chunks`` parallel slices, one stack per slice."""
+    n = codons.shape[0]
+    for chunk in prange(chunks):
+        stack = np.empty(capacity, np.int32)
+        depths = np.empty(capacity, np.int32)
+        for i in range(chunk * n // chunks, (chunk + 1) * n // chunks):
+            valid[i], used[i], n_elements[i] = _map_one(
+                codons, i, start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie,
+                trie_element, classes, lazy, pony, limit, max_depth, stack, depths, element_ids, numbers)
+
+
+@njit(cache=True)
+def _map_one(codons, i, start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie, trie_element,
+             classes, lazy, pony, limit, max_depth, stack, depths, element_ids, numbers):  # pragma: no cover
+    """Map one genome as :func:`map_genome` does; tokenise terminals as they are popped."""
+    n, slots = codons.shape[1], element_ids.shape[1]
+    stack[0], depths[0] = start, 1
+    sp, used, pos, deepest, pending = 1, 0, 0, 1, 1
+    mode, node, sign, mant, scale, count, n_num = _IDLE, 0, 1.0, 0.0, 1.0, 0, 0
+    while sp > 0 and deepest <= max_depth:
+        wrapped = pony and used > 0 and pos == 0 and pending > 0
+        sp -= 1
+        symbol, depth = stack[sp], depths[sp]
+        deepest = max(deepest, depth)
+        if symbol < 0:
+            for p in range(term_chars[-1 - symbol], term_chars[-symbol]):
+                code = chars[p]
+                kind = classes[code]
+                if mode == _NAME:
+                    if kind == _LETTER or kind == _DIGIT:
+                        if node >= 0:
+                            node = trie[node, code]
+                        continue
+                elif mode == _SIGN:
+                    if kind == _DIGIT:
+                        mode, mant, scale = _INT, code - 48.0, 1.0
+                        continue
+                elif mode == _INT or mode == _FRACTION:
+                    if kind == _DIGIT:
+                        mant = mant * 10.0 + (code - 48)
+                        if mode == _FRACTION:
+                            scale *= 10.0
+                        continue
+                    if kind == _DOT and mode == _INT:
+                        mode = _POINT
+                        continue
+                elif mode == _POINT and kind == _DIGIT:
+                    mode, mant, scale = _FRACTION, mant * 10.0 + (code - 48), 10.0
+                    continue
+                count, n_num = _finish(mode, node, sign * mant / scale, trie_element, element_ids, numbers, i, count,
+                                       n_num)
+                mode, sign, node = _IDLE, 1.0, 0
+                if kind == _LETTER:
+                    mode, node = _NAME, trie[0, code]
+                elif kind == _DIGIT:
+                    mode, mant, scale = _INT, code - 48.0, 1.0
+                elif kind == _MINUS:
+                    mode, sign = _SIGN, -1.0
+        else:
+            pending -= 1
+            first = rule_alts[symbol]
+            k = rule_alts[symbol + 1] - first
+            if lazy and k == 1:
+                chosen = first
+            elif used >= limit:
+                break
+            else:
+                chosen = first + np.int64(codons[i, pos]) % k
+                used += 1
+                pos = 0 if pos + 1 == n else pos + 1
+            for j in range(alt_symbols[chosen + 1] - 1, alt_symbols[chosen] - 1, -1):
+                stack[sp], depths[sp] = symbols[j], depth + 1
+                sp += 1
+            pending += alt_nts[chosen]
+        if wrapped:
+            break
+    ok = sp == 0
+    if ok:
+        count, n_num = _finish(mode, node, sign * mant / scale, trie_element, element_ids, numbers, i, count,
+                               n_num)
+    if not ok or count > slots:
+        ok, count = False, 0
+    for e in range(count, slots):
+        element_ids[i, e] = -1
+        for k in range(numbers.shape[2]):
+            numbers[i, e, k] = np.nan
+    return ok, used, count
+
+
+@njit(cache=True, inline="always")
+def _finish(mode, node, value, trie_element, element_ids, numbers, i, count, n_num):  # pragma: no cover
+    """Emit the token that just ended; ``count`` past the slots marks overflow."""
+    slots = element_ids.shape[1]
+    if mode == _NAME:
+        if node >= 0 and trie_element[node] >= 0:
+            if count < slots:
+                element_ids[i, count] = trie_element[node]
+                for k in range(numbers.shape[2]):
+                    numbers[i, count, k] = np.nan
+                return count + 1, 0
+            return slots + 1, 0
+    elif mode >= _INT and 0 < count <= slots and n_num < numbers.shape[2]:
+        numbers[i, count - 1, n_num] = value
+        return count, n_num + 1
+    return count, n_num

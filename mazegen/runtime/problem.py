@@ -1,0 +1,108 @@
+"""A built experiment loaded for evaluation: spec, grammar, fitness module and tables."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+
+from mazegen.errors import MazeError
+from mazegen.runtime.bnf import Grammar, read_bnf
+from mazegen.runtime.geometry import ElementTable
+from mazegen.runtime.mapping import CompiledGrammar, PopulationMap, compile_grammar, map_population
+from mazegen.runtime.population import Population, Ranges, decode
+from mazegen.spec import Spec
+
+INVALID = -np.inf
+"""Fitness of individuals that map to no scenario or that the spec rejects."""
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Fitness of a population and what it was computed from."""
+
+    fitness: np.ndarray
+    terms: dict[str, np.ndarray]
+    population: Population
+    mapped: PopulationMap
+
+
+def _load_fitness(path: Path) -> ModuleType:
+    module_name = f"mazegen_fitness_{abs(hash(str(path)))}"
+    loader_spec = importlib.util.spec_from_file_location(module_name, path)
+    if loader_spec is None or loader_spec.loader is None:
+        raise MazeError("cannot load the fitness module", filename=str(path))
+    module = importlib.util.module_from_spec(loader_spec)
+    try:
+        loader_spec.loader.exec_module(module)
+    except SyntaxError as error:
+        raise MazeError(f"fitness module does not compile: {error.msg}", filename=str(path),
+                        line=error.lineno, col=error.offset) from None
+    for name in ("terms", "rejected"):
+        if not callable(getattr(module, name, None)):
+            raise MazeError(f"fitness module must define {name}(pop)", filename=str(path))
+    sys.modules.setdefault(module_name, module)
+    return module
+
+
+@dataclass(frozen=True)
+class Problem:
+    """Everything needed to evaluate genomes of one experiment."""
+
+    spec: Spec
+    grammar: Grammar
+    compiled: CompiledGrammar
+    table: ElementTable
+    ranges: Ranges
+    fitness_module: ModuleType
+    build_dir: Path
+
+    @classmethod
+    def from_build_dir(cls, build_dir: Path) -> Problem:
+        """Load ``spec.json``, ``grammar.bnf`` and ``fitness.py`` from a build directory."""
+        spec_path = build_dir / "spec.json"
+        if not spec_path.is_file():
+            raise MazeError("not a MazeGen build directory (no spec.json)", filename=str(build_dir))
+        spec = Spec.from_json(spec_path.read_text(encoding="utf-8"))
+        grammar = read_bnf(build_dir / "grammar.bnf")
+        types = spec.scenario_elements
+        return cls(
+            spec=spec,
+            grammar=grammar,
+            compiled=compile_grammar(grammar, [t.name for t in types]),
+            table=ElementTable.from_types(types),
+            ranges=Ranges.from_spec(spec),
+            fitness_module=_load_fitness(build_dir / "fitness.py"),
+            build_dir=build_dir,
+        )
+
+    @property
+    def slots(self) -> int:
+        """Element slots K (placement rows per genome)."""
+        return self.spec.scenario.max_elements
+
+    def decode(self, codons: np.ndarray, genes: np.ndarray) -> tuple[PopulationMap, Population]:
+        """Map structure codons and decode placements."""
+        evolution = self.spec.evolution
+        mapped = map_population(self.compiled, codons, wraps=evolution.wraps, consume=evolution.consume,
+                                max_elements=self.slots)
+        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec)
+
+    def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """Fitness and per-term values of a decoded population."""
+        terms = self.fitness_module.terms(population)
+        total = np.zeros(population.size, dtype=np.float64)
+        for values in terms.values():
+            total += values
+        bad = ~population.valid | np.asarray(self.fitness_module.rejected(population), dtype=bool)
+        return np.where(bad, INVALID, total), terms
+
+    def evaluate(self, codons: np.ndarray, genes: np.ndarray) -> Evaluation:
+        """Map, decode and score a population of genomes."""
+        mapped, population = self.decode(codons, genes)
+        fitness, terms = self.score(population)
+        return Evaluation(fitness, terms, population, mapped)

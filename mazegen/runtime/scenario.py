@@ -1,0 +1,124 @@
+"""Scenario documents (JSON format ``mazegen-scenario`` version 1): writing and reading back.
+
+See ``docs/scenario-format.md``. A document lists each element's type, position,
+size and rotation, plus its world polygons for consumers that do not know the
+element types. Reading a document back (for ``mazegen score``) uses only the
+types and parameters; the polygons are recomputed.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+import numpy as np
+
+from mazegen.errors import MazeError
+from mazegen.runtime.geometry import world_parts
+from mazegen.runtime.population import PLACEMENT_GENES, SX, SY, THETA, X, Y, Population
+from mazegen.spec import Spec
+
+FORMAT = "mazegen-scenario"
+VERSION = 1
+DIGITS = 4
+
+
+def _round(value: float) -> float:
+    return round(float(value), DIGITS)
+
+
+def _arena(spec: Spec) -> dict[str, Any]:
+    a = spec.arena
+    return {"name": a.name, "width": a.width, "height": a.height, "unit": a.unit,
+            "start": list(a.start), "goal": list(a.goal), "robot_radius": a.robot_radius}
+
+
+def element_documents(spec: Spec, population: Population, index: int) -> list[dict[str, Any]]:
+    """The elements of individual ``index`` as JSON-ready dicts."""
+    types = spec.scenario_elements
+    out = []
+    for slot in range(int(population.n_elements[index])):
+        kind = types[int(population.element_ids[index, slot])]
+        p = population.params[index, slot]
+        item: dict[str, Any] = {"type": kind.name, "class": kind.semantic_class, "colour": kind.colour,
+                                "height": kind.height, "x": _round(p[X]), "y": _round(p[Y]),
+                                "rotation": _round(math.degrees(p[THETA]) % 360.0)}
+        if kind.uniform:
+            item["size"] = _round(p[SX])
+        else:
+            item["width"], item["depth"] = _round(p[SX]), _round(p[SY])
+        item["parts"] = [[[_round(x), _round(y)] for x, y in part]
+                         for part in world_parts(population.table, int(population.element_ids[index, slot]), p)]
+        out.append(item)
+    return out
+
+
+def scenario_document(spec: Spec, population: Population, index: int, *, phenotype: str | None,
+                      fitness: float, terms: dict[str, float], origin: dict[str, Any]) -> dict[str, Any]:
+    """A whole scenario document for individual ``index`` of ``population``."""
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "scenario": spec.name,
+        "arena": _arena(spec),
+        "elements": element_documents(spec, population, index),
+        "phenotype": phenotype,
+        "fitness": fitness if math.isfinite(fitness) else None,
+        "terms": {key: float(value) + 0.0 for key, value in terms.items()},  # + 0.0 turns -0.0 into 0.0
+        "valid": bool(math.isfinite(fitness)),
+        "origin": origin,
+    }
+
+
+def dumps(document: dict[str, Any]) -> str:
+    """Deterministic JSON text of a document."""
+    return json.dumps(document, indent=1, sort_keys=False) + "\n"
+
+
+def _number(item: dict[str, Any], key: str, where: str) -> float:
+    value = item.get(key)
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise MazeError(f"{where}: '{key}' must be a number")
+    return float(value)
+
+
+def read_document(text: str, filename: str) -> dict[str, Any]:
+    """Parse a scenario file, with a located error for bad JSON or a wrong format."""
+    try:
+        document = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise MazeError(f"not valid JSON: {error.msg}", filename=filename, line=error.lineno,
+                        col=error.colno) from None
+    if not isinstance(document, dict) or document.get("format") != FORMAT:
+        raise MazeError(f"not a scenario file (expected \"format\": \"{FORMAT}\")", filename=filename)
+    if document.get("version") != VERSION:
+        raise MazeError(f"unsupported scenario version {document.get('version')!r} (this MazeGen reads "
+                        f"{VERSION})", filename=filename)
+    if not isinstance(document.get("elements"), list):
+        raise MazeError("'elements' must be a list", filename=filename)
+    return document
+
+
+def population_from_document(spec: Spec, table: Any, document: dict[str, Any], filename: str) -> Population:
+    """A one-individual :class:`Population` from a scenario document, checked against ``spec``."""
+    names = list(spec.scenario.elements)
+    elements = document["elements"]
+    slots = max(len(elements), 1)
+    ids = np.full((1, slots), -1, dtype=np.int32)
+    params = np.zeros((1, slots, PLACEMENT_GENES), dtype=np.float64)
+    for slot, item in enumerate(elements):
+        where = f"{filename}: element {slot + 1}"
+        if not isinstance(item, dict) or item.get("type") not in names:
+            kind = item.get("type") if isinstance(item, dict) else item
+            raise MazeError(f"{where}: type {kind!r} is not an element of scenario '{spec.name}' "
+                            f"({', '.join(names)})")
+        kind = spec.element(item["type"])
+        ids[0, slot] = names.index(kind.name)
+        if kind.uniform:
+            sx = sy = _number(item, "size", where)
+        else:
+            sx, sy = _number(item, "width", where), _number(item, "depth", where)
+        rotation = _number(item, "rotation", where) if "rotation" in item else 0.0
+        params[0, slot] = (_number(item, "x", where), _number(item, "y", where), sx, sy, math.radians(rotation))
+    return Population(ids, np.array([len(elements)], dtype=np.int32), params, np.array([True]), table, spec.arena)

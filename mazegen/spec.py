@@ -1,0 +1,240 @@
+"""The resolved scenario specification as plain, picklable data.
+
+A :class:`Spec` is what the DSL produces from a ``.maze`` file and what the
+generator and the runtime consume. It holds no textX objects, so it crosses
+process boundaries and serialises to JSON (``spec.json`` in a build directory).
+
+Geometry convention: an element type is a union of convex *parts*. Each part
+vertex ``k`` has a unit coordinate ``u_k`` (scaled by the element's size) and an
+absolute offset ``o_k`` (arena units, not scaled, e.g. half the thickness of a
+bar). In the element frame a vertex is ``(u_x * sx + o_x, u_y * sy + o_y)``;
+the element is then rotated by its rotation and moved to its position.
+Vertices run counter-clockwise.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+Point = tuple[float, float]
+
+SPEC_FORMAT_VERSION = 1
+
+
+@dataclass(frozen=True)
+class Part:
+    """One convex polygon of an element type (see the module docstring)."""
+
+    unit: tuple[Point, ...]
+    offset: tuple[Point, ...]
+
+
+@dataclass(frozen=True)
+class ElementType:
+    """A kind of obstacle a scenario may contain.
+
+    Attributes:
+        name: Identifier used in grammars and phenotypes (``cobot``).
+        shape: Shape kind: rect, square, triangle, polygon, points or bars.
+        parts: Convex parts in the unit frame (see module docstring).
+        size: Range ``(lo, hi)`` of the uniform size, or of the width for rect.
+        size2: Range of the height for rect (``None`` for uniform shapes).
+        rotations: Allowed rotations in degrees (discrete choice).
+        rotation_range: Continuous rotation range in degrees, or ``None``.
+        colour: CSS colour used in drawings.
+        semantic_class: Free-form class (robot, wall, network…).
+        height: Height in arena units for 3D export.
+    """
+
+    name: str
+    shape: str
+    parts: tuple[Part, ...]
+    size: tuple[float, float]
+    size2: tuple[float, float] | None = None
+    rotations: tuple[float, ...] = (0.0,)
+    rotation_range: tuple[float, float] | None = None
+    colour: str = "#555555"
+    semantic_class: str = "obstacle"
+    height: float = 100.0
+
+    @property
+    def uniform(self) -> bool:
+        """True when one size scales both axes (every shape but rect)."""
+        return self.size2 is None
+
+
+@dataclass(frozen=True)
+class Arena:
+    """The floor: a rectangle ``[0, width] x [0, height]`` with a start and goal."""
+
+    name: str
+    width: float
+    height: float
+    unit: str
+    start: Point
+    goal: Point
+    robot_radius: float
+
+
+@dataclass(frozen=True)
+class GrammarPlacement:
+    """Placement carried by the grammar itself (MazeGen 1.0 style).
+
+    Each element is written ``name(<size>,<number>,<number>…)``; the size
+    terminals are ``sizes`` and are multiplied by ``scale``; positions are
+    ``positions`` in arena units.
+    """
+
+    sizes: tuple[int, ...]
+    scale: float
+    positions: tuple[int, ...]
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """What a scenario may contain and how its grammar is written.
+
+    Attributes:
+        name: Scenario name (also the build and run directory name).
+        arena: Name of the arena it is placed on.
+        elements: Element type names, in declaration order.
+        grammar: ``nested``, ``flat``, ``list`` or ``custom``.
+        custom_rules: For ``custom``: ``(lhs, alternatives)`` with each
+            alternative already written in BNF (PonyGE2 dialect).
+        max_elements: Placement slots; a derivation with more is invalid.
+        placement: ``None`` for placement genes, else grammar placement.
+    """
+
+    name: str
+    arena: str
+    elements: tuple[str, ...]
+    grammar: str = "nested"
+    custom_rules: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    max_elements: int = 32
+    placement: GrammarPlacement | None = None
+
+
+@dataclass(frozen=True)
+class FitnessTerm:
+    """One term of the fitness.
+
+    ``kind`` is one of ``count``, ``overlap``, ``size_limit``, ``outside``.
+    ``weight`` multiplies the term (penalties are subtracted). ``limit`` is the
+    size limit. ``reject`` makes an individual invalid instead of penalised.
+    """
+
+    kind: str
+    weight: float = 1.0
+    limit: float | None = None
+    reject: bool = False
+
+
+@dataclass(frozen=True)
+class Evolution:
+    """Evolution settings (defaults follow the paper's Table 1)."""
+
+    population: int = 1000
+    generations: int = 15
+    genome: int = 32
+    selection: str = "truncation"
+    truncation: float = 0.1
+    tournament: int = 3
+    crossover: float = 0.9
+    mutation: float = 0.05
+    elitism: int = 1
+    runs: int = 1
+    seed: int = 1
+    codon_max: int = 255
+    wraps: int = 0
+    consume: str = "eager"
+    best: int = 10
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A whole resolved specification."""
+
+    name: str
+    source: str
+    elements: tuple[ElementType, ...]
+    arena: Arena
+    scenario: Scenario
+    fitness: tuple[FitnessTerm, ...]
+    evolution: Evolution = field(default_factory=Evolution)
+
+    def element(self, name: str) -> ElementType:
+        """Return the element type called ``name``."""
+        for element in self.elements:
+            if element.name == name:
+                return element
+        raise KeyError(name)
+
+    @property
+    def scenario_elements(self) -> tuple[ElementType, ...]:
+        """The element types the scenario uses, in its order (id = index)."""
+        return tuple(self.element(name) for name in self.scenario.elements)
+
+    def with_evolution(self, **changes: Any) -> Spec:
+        """Return a copy with some evolution settings replaced."""
+        changes = {k: v for k, v in changes.items() if v is not None}
+        return dataclasses.replace(self, evolution=dataclasses.replace(self.evolution, **changes))
+
+    def to_json(self) -> str:
+        """Serialise to deterministic JSON text."""
+        body = {"format": "mazegen-spec", "version": SPEC_FORMAT_VERSION, **dataclasses.asdict(self)}
+        return json.dumps(body, indent=2, sort_keys=True) + "\n"
+
+    @classmethod
+    def from_json(cls, text: str) -> Spec:
+        """Rebuild a Spec from :meth:`to_json` output."""
+        data = json.loads(text)
+        data.pop("format", None)
+        data.pop("version", None)
+        return _spec_from_dict(data)
+
+
+def _points(items: Any) -> tuple[Point, ...]:
+    return tuple((float(x), float(y)) for x, y in items)
+
+
+def _pair(item: Any) -> tuple[float, float] | None:
+    return None if item is None else (float(item[0]), float(item[1]))
+
+
+def _spec_from_dict(data: dict[str, Any]) -> Spec:
+    elements = tuple(
+        ElementType(
+            name=e["name"],
+            shape=e["shape"],
+            parts=tuple(Part(_points(p["unit"]), _points(p["offset"])) for p in e["parts"]),
+            size=_pair(e["size"]),  # type: ignore[arg-type]
+            size2=_pair(e["size2"]),
+            rotations=tuple(float(r) for r in e["rotations"]),
+            rotation_range=_pair(e["rotation_range"]),
+            colour=e["colour"],
+            semantic_class=e["semantic_class"],
+            height=float(e["height"]),
+        )
+        for e in data["elements"]
+    )
+    a = data["arena"]
+    arena = Arena(a["name"], float(a["width"]), float(a["height"]), a["unit"],
+                  _pair(a["start"]), _pair(a["goal"]), float(a["robot_radius"]))  # type: ignore[arg-type]
+    s = data["scenario"]
+    placement = s["placement"]
+    scenario = Scenario(
+        name=s["name"],
+        arena=s["arena"],
+        elements=tuple(s["elements"]),
+        grammar=s["grammar"],
+        custom_rules=tuple((lhs, tuple(alts)) for lhs, alts in s["custom_rules"]),
+        max_elements=int(s["max_elements"]),
+        placement=None if placement is None else GrammarPlacement(
+            tuple(placement["sizes"]), float(placement["scale"]), tuple(placement["positions"])),
+    )
+    fitness = tuple(FitnessTerm(**t) for t in data["fitness"])
+    return Spec(data["name"], data["source"], elements, arena, scenario, fitness,
+                Evolution(**data["evolution"]))
