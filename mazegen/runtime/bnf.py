@@ -21,9 +21,10 @@ The dialect, as PonyGE2 reads it:
 Deliberate differences, all on input PonyGE2 would silently misread: text other
 than comments before the first rule, an unclosed quote, an undefined
 non-terminal, a duplicate rule, a rule without alternatives and a malformed
-escape raise :class:`~mazegen.errors.MazeError`; non-ASCII characters are kept as
-they are (PonyGE2 turns them into mojibake when decoding escapes). PonyGE2's
-``GE_RANGE``/``GE_GENERATE`` directives are not supported.
+escape raise :class:`~mazegen.errors.MazeError`; ``<x> ::=`` inside quotes or in
+a comment before the first rule does not start a rule; non-ASCII characters are
+kept as they are (PonyGE2 turns them into mojibake when decoding escapes).
+PonyGE2's ``GE_RANGE``/``GE_GENERATE`` directives are not supported.
 """
 
 from __future__ import annotations

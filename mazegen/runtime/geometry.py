@@ -16,10 +16,9 @@ nothing of size N×K×P×V is ever built.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-
-import math
 
 import numba
 import numpy as np
@@ -64,8 +63,8 @@ class ElementTable:
                 n_vertices[e, p] = len(part.unit)
                 unit[e, p, : len(part.unit)] = part.unit
                 offset[e, p, : len(part.offset)] = part.offset
-        unit_radius = np.hypot(unit[..., 0], unit[..., 1]).reshape(len(types), -1).max(axis=1, initial=0.0)
-        offset_radius = np.hypot(offset[..., 0], offset[..., 1]).reshape(len(types), -1).max(axis=1, initial=0.0)
+        unit_radius = np.linalg.norm(unit, axis=-1).reshape(len(types), -1).max(axis=1, initial=0.0)
+        offset_radius = np.linalg.norm(offset, axis=-1).reshape(len(types), -1).max(axis=1, initial=0.0)
         return cls(n_parts, n_vertices, unit, offset, unit_radius, offset_radius)
 
 
@@ -79,7 +78,7 @@ def overlapping_pairs(table: ElementTable, element_ids: np.ndarray, n_elements: 
     Returns:
         int32[N] pair counts.
     """
-    ids, n_el, prm = _population(element_ids, n_elements, params)
+    ids, n_el, prm = _population(table, element_ids, n_elements, params)
     out = np.zeros(ids.shape[0], np.int32)
     if ids.shape[0]:
         _overlap_kernel(table.n_parts, table.n_vertices, table.unit, table.offset, table.unit_radius,
@@ -94,11 +93,12 @@ def elements_outside(table: ElementTable, element_ids: np.ndarray, n_elements: n
     Returns:
         int32[N] element counts.
     """
-    ids, n_el, prm = _population(element_ids, n_elements, params)
+    ids, n_el, prm = _population(table, element_ids, n_elements, params)
     out = np.zeros(ids.shape[0], np.int32)
     if ids.shape[0]:
-        _outside_kernel(table.n_parts, table.n_vertices, table.unit, table.offset,
-                        ids, n_el, prm, float(width), float(height), _blocks(ids.shape[0]), out)
+        _outside_kernel(table.n_parts, table.n_vertices, table.unit, table.offset, table.unit_radius,
+                        table.offset_radius, ids, n_el, prm, float(width), float(height),
+                        _blocks(ids.shape[0]), out)
     return out
 
 
@@ -109,7 +109,7 @@ def element_bounds(table: ElementTable, element_ids: np.ndarray, n_elements: np.
     Returns:
         float64[N, K, 4] as ``(xmin, ymin, xmax, ymax)``, NaN for padding.
     """
-    ids, n_el, prm = _population(element_ids, n_elements, params)
+    ids, n_el, prm = _population(table, element_ids, n_elements, params)
     out = np.full((*ids.shape, 4), np.nan)
     if ids.shape[0]:
         _bounds_kernel(table.n_parts, table.n_vertices, table.unit, table.offset,
@@ -129,14 +129,20 @@ def world_parts(table: ElementTable, element_id: int, param_row: Sequence[float]
     return [wv[0, p, : table.n_vertices[element_id, p]].copy() for p in range(table.n_parts[element_id])]
 
 
-def _population(element_ids: np.ndarray, n_elements: np.ndarray,
+def _population(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
                 params: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Check the population arrays and return them contiguous with the kernels' dtypes."""
     ids = np.ascontiguousarray(element_ids, np.int32)
     n_el = np.ascontiguousarray(n_elements, np.int32)
     prm = np.ascontiguousarray(params, np.float64)
     if ids.ndim != 2 or n_el.shape != ids.shape[:1] or prm.shape != (*ids.shape, 5):
         raise ValueError(f"population arrays disagree: element_ids {ids.shape}, "
                          f"n_elements {n_el.shape}, params {prm.shape}")
+    # The kernels index without bounds checks: a bad count or id would write out of bounds.
+    if n_el.size and (n_el.min() < 0 or n_el.max() > ids.shape[1]):
+        raise ValueError(f"n_elements must lie in [0, {ids.shape[1]}]")
+    if ids.size and (ids.min() < -1 or ids.max() >= len(table.n_parts)):
+        raise ValueError(f"element ids must lie in [0, {len(table.n_parts)}) or be -1")
     return ids, n_el, prm
 
 
@@ -174,6 +180,16 @@ def _sincos(x):
     s = (pc if swap else ps) * sign * (1 - 2 * ((j >> 2) & 1))
     c = (ps if swap else pc) * (1 - 2 * (((j >> 1) ^ (j >> 2)) & 1))
     return s, c
+
+
+# Widens bounding circles so that rounding never puts a vertex outside one.
+_REACH_MARGIN = 1.0 + 1e-9
+
+
+@njit(cache=True, inline="always")
+def _reach(unit_radius, offset_radius, e, sx, sy):
+    """Radius around its position that contains element type ``e`` at scale ``(sx, sy)``."""
+    return (unit_radius[e] * max(sx, sy) + offset_radius[e]) * _REACH_MARGIN
 
 
 @njit(cache=True, inline="always")
@@ -277,8 +293,7 @@ def _overlap_kernel(n_parts, n_vertices, unit, offset, unit_radius, offset_radiu
         for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
             m = n_el[i]
             for k in range(m):
-                radius[k] = unit_radius[ids[i, k]] * max(params[i, k, 2], params[i, k, 3]) \
-                    + offset_radius[ids[i, k]]
+                radius[k] = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
                 placed[k] = False
             # Bounding circles need no trigonometry, so elements far from all
             # others are never transformed. Candidates are collected without a
@@ -322,7 +337,8 @@ def _bounds_kernel(n_parts, n_vertices, unit, offset, ids, n_el, params, n_block
 
 
 @njit(parallel=True, cache=True)
-def _outside_kernel(n_parts, n_vertices, unit, offset, ids, n_el, params, width, height, n_blocks, out):
+def _outside_kernel(n_parts, n_vertices, unit, offset, unit_radius, offset_radius, ids, n_el, params,
+                    width, height, n_blocks, out):
     n = ids.shape[0]
     for block in prange(n_blocks):
         wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
@@ -331,9 +347,13 @@ def _outside_kernel(n_parts, n_vertices, unit, offset, ids, n_el, params, width,
         for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
             count = 0
             for k in range(n_el[i]):
-                _world_element(n_parts, n_vertices, unit, offset, ids[i, k], params[i, k, 0],
-                               params[i, k, 1], params[i, k, 2], params[i, k, 3], params[i, k, 4],
-                               wv, pbox, ebox, 0)
-                if ebox[0, 0] < 0.0 or ebox[0, 1] < 0.0 or ebox[0, 2] > width or ebox[0, 3] > height:
-                    count += 1
+                x = params[i, k, 0]
+                y = params[i, k, 1]
+                r = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
+                if x - r >= 0.0 and y - r >= 0.0 and x + r <= width and y + r <= height:
+                    continue  # the bounding circle is inside: no need to transform
+                _world_element(n_parts, n_vertices, unit, offset, ids[i, k], x, y,
+                               params[i, k, 2], params[i, k, 3], params[i, k, 4], wv, pbox, ebox, 0)
+                count += ((ebox[0, 0] < 0.0) | (ebox[0, 1] < 0.0)
+                          | (ebox[0, 2] > width) | (ebox[0, 3] > height))
             out[i] = count

@@ -223,8 +223,8 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
     rule_alts, alt_symbols, alt_nts, symbols = [0], [0], [], []
     for alternatives in grammar.rules.values():
         for alternative in alternatives:
-            for s in alternative:
-                symbols.append(rule_ids[s.text] if s.nonterminal else -1 - terminals.setdefault(s.text, len(terminals)))
+            symbols += [rule_ids[s.text] if s.nonterminal else ~terminals.setdefault(s.text, len(terminals))
+                        for s in alternative]
             alt_symbols.append(len(symbols))
             alt_nts.append(sum(s.nonterminal for s in alternative))
         rule_alts.append(len(alt_symbols) - 1)
@@ -286,33 +286,33 @@ def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int 
         element_ids=np.empty((n, max_elements), np.int32),
         numbers=np.empty((n, max_elements, NUMBERS_PER_ELEMENT), np.float64))
     c = compiled
-    _map_all(codons, min(n, 8 * get_num_threads()), (max_depth + 3) * c.max_alt_len + 1,
-             c.start, c.rule_alts, c.alt_symbols, c.alt_nonterminals, c.symbols, c.term_chars, c.chars,
-             c.trie, c.trie_element, _CLASSES, consume == "lazy", consume == "eager" and wraps == 0,
-             _codon_limit(codons.shape[1], wraps, consume), max_depth,
-             result.valid, result.used_codons, result.n_elements, result.element_ids, result.numbers)
+    grammar = (c.start, c.rule_alts, c.alt_symbols, c.alt_nonterminals, c.symbols, c.term_chars, c.chars,
+               c.trie, c.trie_element, _CLASSES)
+    options = (min(n, 8 * get_num_threads()), (max_depth + 3) * c.max_alt_len + 1, consume == "lazy",
+               consume == "eager" and wraps == 0, _codon_limit(codons.shape[1], wraps, consume), max_depth)
+    _map_all(codons, grammar, options,
+             (result.valid, result.used_codons, result.n_elements, result.element_ids, result.numbers))
     return result
 
 
 @njit(cache=True, parallel=True)
-def _map_all(codons, chunks, capacity, start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars,
-             trie, trie_element, classes, lazy, pony, limit, max_depth,
-             valid, used, n_elements, element_ids, numbers):  # pragma: no cover - compiled
-    """Map the population in ``chunks`` parallel slices, one stack per slice."""
-    n = codons.shape[0]
+def _map_all(codons, grammar, options, out):  # pragma: no cover - compiled
+    """Map the population in parallel slices, one preallocated stack per slice."""
+    n, chunks, capacity = codons.shape[0], options[0], options[1]
+    valid, used, n_elements = out[0], out[1], out[2]
     for chunk in prange(chunks):
         stack = np.empty(capacity, np.int32)
         depths = np.empty(capacity, np.int32)
         for i in range(chunk * n // chunks, (chunk + 1) * n // chunks):
-            valid[i], used[i], n_elements[i] = _map_one(
-                codons, i, start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie,
-                trie_element, classes, lazy, pony, limit, max_depth, stack, depths, element_ids, numbers)
+            valid[i], used[i], n_elements[i] = _map_one(codons, i, grammar, options, stack, depths, out)
 
 
 @njit(cache=True)
-def _map_one(codons, i, start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie, trie_element,
-             classes, lazy, pony, limit, max_depth, stack, depths, element_ids, numbers):  # pragma: no cover
-    """Map one genome as :func:`map_genome` does; tokenise terminals as they are popped."""
+def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cover - compiled
+    """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped."""
+    start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie, trie_element, classes = grammar
+    lazy, pony, limit, max_depth = options[2], options[3], options[4], options[5]
+    element_ids, numbers = out[3], out[4]
     n, slots = codons.shape[1], element_ids.shape[1]
     stack[0], depths[0] = start, 1
     sp, used, pos, deepest, pending = 1, 0, 0, 1, 1
@@ -326,34 +326,23 @@ def _map_one(codons, i, start, rule_alts, alt_symbols, alt_nts, symbols, term_ch
             for p in range(term_chars[-1 - symbol], term_chars[-symbol]):
                 code = chars[p]
                 kind = classes[code]
-                if mode == _NAME:
-                    if kind == _LETTER or kind == _DIGIT:
-                        if node >= 0:
-                            node = trie[node, code]
-                        continue
-                elif mode == _SIGN:
-                    if kind == _DIGIT:
-                        mode, mant, scale = _INT, code - 48.0, 1.0
-                        continue
-                elif mode == _INT or mode == _FRACTION:
-                    if kind == _DIGIT:
-                        mant = mant * 10.0 + (code - 48)
-                        if mode == _FRACTION:
-                            scale *= 10.0
-                        continue
-                    if kind == _DOT and mode == _INT:
-                        mode = _POINT
-                        continue
-                elif mode == _POINT and kind == _DIGIT:
-                    mode, mant, scale = _FRACTION, mant * 10.0 + (code - 48), 10.0
+                if mode == _NAME and _LETTER <= kind <= _DIGIT:
+                    node = trie[node, code] if node >= 0 else -1
                     continue
-                count, n_num = _finish(mode, node, sign * mant / scale, trie_element, element_ids, numbers, i, count,
-                                       n_num)
-                mode, sign, node = _IDLE, 1.0, 0
+                if kind == _DIGIT and mode >= _SIGN:
+                    mant = mant * 10.0 + (code - 48)
+                    scale = scale * 10.0 if mode >= _POINT else scale
+                    mode = _FRACTION if mode >= _POINT else _INT
+                    continue
+                if kind == _DOT and mode == _INT:
+                    mode = _POINT
+                    continue
+                count, n_num = _finish(mode, node, sign * mant / scale, trie_element, out, i, count, n_num)
+                mode, node, sign, mant, scale = _IDLE, 0, 1.0, 0.0, 1.0
                 if kind == _LETTER:
                     mode, node = _NAME, trie[0, code]
                 elif kind == _DIGIT:
-                    mode, mant, scale = _INT, code - 48.0, 1.0
+                    mode, mant = _INT, code - 48.0
                 elif kind == _MINUS:
                     mode, sign = _SIGN, -1.0
         else:
@@ -376,30 +365,28 @@ def _map_one(codons, i, start, rule_alts, alt_symbols, alt_nts, symbols, term_ch
             break
     ok = sp == 0
     if ok:
-        count, n_num = _finish(mode, node, sign * mant / scale, trie_element, element_ids, numbers, i, count,
-                               n_num)
+        count, n_num = _finish(mode, node, sign * mant / scale, trie_element, out, i, count, n_num)
     if not ok or count > slots:
         ok, count = False, 0
     for e in range(count, slots):
         element_ids[i, e] = -1
-        for k in range(numbers.shape[2]):
+        for k in range(NUMBERS_PER_ELEMENT):
             numbers[i, e, k] = np.nan
     return ok, used, count
 
 
 @njit(cache=True, inline="always")
-def _finish(mode, node, value, trie_element, element_ids, numbers, i, count, n_num):  # pragma: no cover
-    """Emit the token that just ended; ``count`` past the slots marks overflow."""
+def _finish(mode, node, value, trie_element, out, i, count, n_num):  # pragma: no cover - compiled
+    """Emit the token that just ended; a ``count`` beyond the slots means overflow."""
+    element_ids, numbers = out[3], out[4]
     slots = element_ids.shape[1]
-    if mode == _NAME:
-        if node >= 0 and trie_element[node] >= 0:
-            if count < slots:
-                element_ids[i, count] = trie_element[node]
-                for k in range(numbers.shape[2]):
-                    numbers[i, count, k] = np.nan
-                return count + 1, 0
-            return slots + 1, 0
-    elif mode >= _INT and 0 < count <= slots and n_num < numbers.shape[2]:
+    if mode == _NAME and node >= 0 and trie_element[node] >= 0:
+        if count < slots:
+            element_ids[i, count] = trie_element[node]
+            for k in range(NUMBERS_PER_ELEMENT):
+                numbers[i, count, k] = np.nan
+        return count + 1, 0
+    if mode >= _INT and 0 < count <= slots and n_num < NUMBERS_PER_ELEMENT:
         numbers[i, count - 1, n_num] = value
         return count, n_num + 1
     return count, n_num

@@ -1,0 +1,177 @@
+"""The `mazegen` command end to end, as a user runs it."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from mazegen.cli.main import main
+from tests.conftest import EXAMPLES
+
+PAPER_GENOME = ["34", "10", "200", "80", "5", "70", "45", "43"]
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(main, list(args), catch_exceptions=False)
+
+
+def test_check_prints_ok_per_file():
+    result = invoke("check", str(EXAMPLES / "factory.maze"), str(EXAMPLES / "mazegen1.maze"))
+    assert result.exit_code == 0
+    assert result.output.splitlines() == [f"{EXAMPLES / 'factory.maze'}: OK", f"{EXAMPLES / 'mazegen1.maze'}: OK"]
+
+
+def test_check_reports_located_error_without_traceback(write_spec):
+    path = write_spec("element box { shape square size 40..20 }\n")
+    result = invoke("check", str(path))
+    assert result.exit_code == 1
+    assert result.stderr.strip().endswith("spec.maze:1:33: empty size range 40..20 (low is above high)")
+    assert "Traceback" not in result.output
+
+
+def test_build_then_map_the_papers_example(tmp_path):
+    out = tmp_path / "build"
+    assert invoke("build", str(EXAMPLES / "mazegen1.maze"), "-o", str(out)).exit_code == 0
+    result = invoke("map", str(out / "grammar.bnf"), *PAPER_GENOME)
+    assert result.output == "eshape(angle)\t3 codons\n"
+
+
+def test_map_genomes_file_as_json(tmp_path):
+    out = tmp_path / "build"
+    invoke("build", str(EXAMPLES / "mazegen1.maze"), "-o", str(out))
+    genomes = tmp_path / "genomes.txt"
+    genomes.write_text("34 10 200 80 5 70 45 43\n4,4,4\n\n0, 1\n")
+    result = invoke("map", str(out / "grammar.bnf"), "--genomes", str(genomes), "--json")
+    rows = [json.loads(line) for line in result.output.splitlines()]
+    assert rows[0] == {"phenotype": "eshape(angle)", "valid": True, "used_codons": 3}
+    # PonyGE2 reads codon 0 once more when the genome ends just before a non-terminal.
+    assert rows[1] == {"phenotype": None, "valid": False, "used_codons": 4}
+    assert rows[2] == {"phenotype": "angle", "valid": True, "used_codons": 1}
+
+
+def test_map_rejects_a_bad_genome_line(tmp_path):
+    grammar = tmp_path / "g.bnf"
+    grammar.write_text("<s> ::= a | b\n")
+    genomes = tmp_path / "genomes.txt"
+    genomes.write_text("1 2\n1 x 3\n")
+    result = invoke("map", str(grammar), "--genomes", str(genomes))
+    assert result.exit_code == 1
+    assert "genomes.txt:2:1: a genome is integers" in result.stderr
+
+
+def run_small(out: Path, *extra: str):
+    return invoke("run", str(EXAMPLES / "factory.maze"), "--population", "60", "--generations", "3",
+                  "--runs", "2", "-q", "-o", str(out), *extra)
+
+
+def test_run_writes_a_complete_run_directory(tmp_path):
+    out = tmp_path / "run"
+    result = run_small(out)
+    assert result.exit_code == 0, result.output
+    assert "run 1: best fitness" in result.output
+    assert (out / "experiment" / "grammar.bnf").is_file() and (out / "experiment" / "fitness.py").is_file()
+    record = json.loads((out / "experiment.json").read_text())
+    assert record["evolution"]["population"] == 60 and record["evolution"]["runs"] == 2
+    stats = (out / "stats.csv").read_text().splitlines()
+    assert stats[0] == "run,generation,evaluations,best,mean,median,invalid,unique,cache_hits,seconds"
+    assert len(stats) == 1 + 2 * 4
+    for run in ("run-01", "run-02"):
+        document = json.loads((out / run / "best-01.json").read_text())
+        assert document["format"] == "mazegen-scenario"
+        assert (out / run / "best-01.svg").read_text().startswith("<svg") or "<svg" in (out / run / "best-01.svg").read_text()
+        assert (out / run / "population.npz").is_file()
+
+
+def test_run_refuses_to_overwrite_and_keeps_old_results(tmp_path):
+    out = tmp_path / "run"
+    run_small(out)
+    before = (out / "stats.csv").read_bytes()
+    result = run_small(out, "--seed", "9")
+    assert result.exit_code == 1
+    assert "run directory already exists" in result.stderr
+    assert (out / "stats.csv").read_bytes() == before
+
+
+def test_run_rejects_population_zero(tmp_path):
+    result = invoke("run", str(EXAMPLES / "factory.maze"), "--population", "0", "-q", "-o", str(tmp_path / "r"))
+    assert result.exit_code == 1
+    assert result.stderr.strip() == "--population must be at least 1, got 0"
+    assert not (tmp_path / "r").exists()
+
+
+def test_score_a_hand_drawn_floor(tmp_path):
+    floor = {
+        "format": "mazegen-scenario", "version": 1,
+        "elements": [
+            {"type": "router", "x": 100, "y": 100, "size": 30},
+            {"type": "router", "x": 300, "y": 100, "size": 30},
+            {"type": "router", "x": 500, "y": 100, "size": 30},
+            {"type": "router", "x": 700, "y": 100, "size": 30},
+        ],
+    }
+    path = tmp_path / "floor.json"
+    path.write_text(json.dumps(floor))
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
+    assert result.output.splitlines()[:3] == ["fitness\t4", "elements\t4", "count\t4"]
+    # Figure 19: four elements, three overlapping pairs -> 4 - 0.5 * 3 = 2.5.
+    for item, x in zip(floor["elements"], (100, 110, 120, 700)):
+        item["x"] = x
+    path.write_text(json.dumps(floor))
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
+    assert "overlap\t-1.5" in result.output.splitlines()
+    assert result.output.splitlines()[0] == "fitness\t2.5"
+
+
+@pytest.mark.parametrize(("content", "message"), [
+    ("{not json", "floor.json:1:2: not valid JSON"),
+    ('{"format": "other"}', "not a scenario file"),
+    ('{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "crate", "x": 1, "y": 1}]}',
+     "type 'crate' is not an element of scenario 'factory'"),
+    ('{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "router", "x": "a", "y": 1, '
+     '"size": 3}]}', "element 1: 'x' must be a number"),
+])
+def test_score_reports_bad_scenarios(tmp_path, content, message):
+    path = tmp_path / "floor.json"
+    path.write_text(content)
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
+    assert result.exit_code == 1
+    assert message in result.stderr
+
+
+def test_render_svg_and_png(tmp_path):
+    out = tmp_path / "run"
+    run_small(out)
+    for suffix in ("svg", "png"):
+        picture = tmp_path / f"best.{suffix}"
+        assert invoke("render", str(out / "run-01" / "best-01.json"), "-o", str(picture)).exit_code == 0
+        assert picture.stat().st_size > 0
+
+
+def test_generated_experiment_runs_alone(tmp_path):
+    build = tmp_path / "build"
+    invoke("build", str(EXAMPLES / "factory.maze"), "-o", str(build))
+    out = tmp_path / "alone"
+    done = subprocess.run([sys.executable, str(build / "experiment.py"), "--seed", "3", "--population", "40",
+                           "--generations", "2", "--quiet", "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert (out / "run-01" / "best-01.json").is_file()
+    assert json.loads((out / "experiment.json").read_text())["evolution"]["seed"] == 3
+
+
+def test_textx_knows_the_language_and_generator(tmp_path):
+    check = subprocess.run(["textx", "check", str(EXAMPLES / "factory.maze")], capture_output=True, text=True)
+    assert check.returncode == 0 and "factory.maze: OK" in check.stdout + check.stderr
+    bad = tmp_path / "bad.maze"
+    bad.write_text("element b { shape square size 9..1 }\n")
+    refused = subprocess.run(["textx", "check", str(bad)], capture_output=True, text=True)
+    assert refused.returncode != 0 and "bad.maze:1:31: empty size range 9..1" in refused.stdout + refused.stderr
+    out = tmp_path / "gen"
+    generate = subprocess.run(["textx", "generate", str(EXAMPLES / "mazegen1.maze"), "--target", "mazegen",
+                               "-o", str(out)], capture_output=True, text=True)
+    assert generate.returncode == 0, generate.stderr
+    assert "<composed> ::=" in (out / "grammar.bnf").read_text()
