@@ -1,0 +1,57 @@
+"""Decoding genomes into element parameters, and the metrics fitness terms read."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mazegen
+from mazegen.generator.build import build
+from mazegen.runtime import metrics
+from mazegen.runtime.population import GENE_MAX, SX, SY, THETA, X, Y
+from mazegen.runtime.problem import Problem
+from tests.conftest import EXAMPLES
+
+
+def problem_of(path, tmp_path) -> Problem:
+    build(mazegen.load(path), tmp_path)
+    return Problem.from_build_dir(tmp_path)
+
+
+def test_grammar_placement_reads_size_and_position_from_the_phenotype(tmp_path):
+    problem = problem_of(EXAMPLES / "table1" / "exp1.maze", tmp_path)
+    # <scenario>: 1 -> square(<size>,<number>,<number>); size 3 -> "4"; x 6 -> 700; y 7 -> 800.
+    codons = np.array([[1, 3, 6, 7]], dtype=np.int32)
+    genes = np.zeros((1, problem.slots, 5), dtype=np.uint16)
+    mapped, population = problem.decode(codons, genes)
+    assert mapped.valid[0] and population.n_elements[0] == 1
+    assert population.params[0, 0, [X, Y, SX, SY]].tolist() == [700.0, 800.0, 200.0, 200.0]
+
+
+def test_placement_genes_span_the_ranges(tmp_path):
+    problem = problem_of(EXAMPLES / "factory.maze", tmp_path)
+    names = problem.spec.scenario.elements
+    codons = np.array([[names.index("vwall"), 0], [names.index("cobot"), 0]], dtype=np.int32)
+    genes = np.zeros((2, problem.slots, 5), dtype=np.uint16)
+    genes[:, 0] = [GENE_MAX, 0, GENE_MAX, 0, GENE_MAX]
+    _, population = problem.decode(codons, genes)
+    wall, cobot = population.params[0, 0], population.params[1, 0]
+    assert wall[[X, Y, SX, SY, THETA]].tolist() == [1400.0, 0.0, 20.0, 150.0, 0.0]  # rect: width x depth
+    assert cobot[SX] == cobot[SY] == 120.0
+    assert cobot[THETA] == pytest.approx(np.radians(360.0))  # rotation any: 0..360
+
+
+def test_size_limit_and_outside_metrics(tmp_path):
+    problem = problem_of(EXAMPLES / "mazegen15.maze", tmp_path)
+    # flat: square() twice -> two elements.
+    codons = np.array([[5, 1]], dtype=np.int32)
+    genes = np.zeros((1, problem.slots, 5), dtype=np.uint16)
+    genes[0, 0] = [GENE_MAX // 2, GENE_MAX // 2, GENE_MAX, 0, 0]   # centred, size 800 > 500
+    genes[0, 1] = [0, GENE_MAX // 2, 0, 0, 0]                      # on the left wall, size 40
+    _, population = problem.decode(codons, genes)
+    assert population.n_elements[0] == 2
+    assert metrics.elements_over_size(population, 500.0).tolist() == [1.0]
+    assert metrics.elements_outside(population).tolist() == [1.0]
+    fitness, terms = problem.score(population)
+    assert fitness[0] == -np.inf  # mazegen15 rejects any element over 500
+    assert terms["count"].tolist() == [2.0]
