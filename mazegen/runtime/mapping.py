@@ -160,6 +160,7 @@ def map_genome(grammar: Grammar, genome: Sequence[int], *, wraps: int = 0, consu
             if consume == "lazy" and len(alternatives) == 1:
                 chosen = alternatives[0]
             elif used >= limit:
+                stack.append((symbol, depth))  # left unexpanded: invalid
                 break
             else:
                 chosen = alternatives[codons[used % n] % len(alternatives)]
@@ -352,6 +353,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
             if lazy and k == 1:
                 chosen = first
             elif used >= limit:
+                sp += 1  # left unexpanded: invalid
                 break
             else:
                 chosen = first + np.int64(codons[i, pos]) % k

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numba import njit, prange
 
 from mazegen.spec import Arena, Spec
 
@@ -90,13 +91,44 @@ class Ranges:
         )
 
 
-def _scaled(genes: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    return lo + (hi - lo) * (genes.astype(np.float64) / GENE_MAX)
+@njit(cache=True, parallel=True)
+def _placement_kernel(ids, n_elements, genes, numbers, size, depth, uniform, aspect, rot_lo, rot_hi,
+                      rot_free, rotations, n_rotations, width, height, grammar_scale, out):  # pragma: no cover
+    for i in prange(ids.shape[0]):
+        for k in range(n_elements[i]):
+            e = ids[i, k]
+            g = genes[i, k]
+            x = width * (g[0] / GENE_MAX)
+            y = height * (g[1] / GENE_MAX)
+            sx = size[e, 0] + (size[e, 1] - size[e, 0]) * (g[2] / GENE_MAX)
+            sy = sx if uniform[e] else depth[e, 0] + (depth[e, 1] - depth[e, 0]) * (g[3] / GENE_MAX)
+            if rot_free[e]:
+                angle = rot_lo[e] + (rot_hi[e] - rot_lo[e]) * (g[4] / GENE_MAX)
+            else:
+                angle = rotations[e, g[4] % n_rotations[e]]
+            if grammar_scale > 0.0:
+                nums = numbers[i, k]
+                if not np.isnan(nums[0]):
+                    sx = nums[0] * grammar_scale
+                    sy = sx if uniform[e] else sx * aspect[e]
+                if not np.isnan(nums[1]):
+                    x = nums[1]
+                if not np.isnan(nums[2]):
+                    y = nums[2]
+                if not np.isnan(nums[3]):
+                    angle = nums[3]
+            out[i, k, 0] = x
+            out[i, k, 1] = y
+            out[i, k, 2] = sx
+            out[i, k, 3] = sy
+            out[i, k, 4] = np.radians(angle)
 
 
 def placement_params(mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, arena: Arena,
                      grammar_scale: float | None) -> np.ndarray:
     """Element parameters from placement genes, or from grammar numbers where present.
+
+    Slots past an individual's element count are zero.
 
     Args:
         mapped: Result of mapping the structure codons.
@@ -105,29 +137,11 @@ def placement_params(mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, a
         arena: Arena (positions span it).
         grammar_scale: Multiplier of grammar size numbers, or ``None`` for gene placement.
     """
-    ids = np.maximum(mapped.element_ids, 0)
-    params = np.empty(ids.shape + (PLACEMENT_GENES,), dtype=np.float64)
-    params[..., X] = _scaled(genes[..., X], 0.0, arena.width)
-    params[..., Y] = _scaled(genes[..., Y], 0.0, arena.height)
-    size = ranges.size[ids]
-    params[..., SX] = _scaled(genes[..., SX], size[..., 0], size[..., 1])
-    depth = ranges.depth[ids]
-    uniform = ranges.uniform[ids]
-    params[..., SY] = np.where(uniform, params[..., SX], _scaled(genes[..., SY], depth[..., 0], depth[..., 1]))
-    free = _scaled(genes[..., THETA], ranges.rot_lo[ids], ranges.rot_hi[ids])
-    pick = genes[..., THETA].astype(np.int64) % ranges.n_rotations[ids]
-    discrete = np.take_along_axis(ranges.rotations[ids], pick[..., None], axis=-1)[..., 0]
-    params[..., THETA] = np.radians(np.where(ranges.rot_free[ids], free, discrete))
-    if grammar_scale is not None:
-        numbers = mapped.numbers
-        has = ~np.isnan(numbers)
-        size_from_grammar = numbers[..., 0] * grammar_scale
-        params[..., SX] = np.where(has[..., 0], size_from_grammar, params[..., SX])
-        params[..., SY] = np.where(has[..., 0], size_from_grammar * np.where(uniform, 1.0, ranges.aspect[ids]),
-                                   params[..., SY])
-        params[..., X] = np.where(has[..., 1], numbers[..., 1], params[..., X])
-        params[..., Y] = np.where(has[..., 2], numbers[..., 2], params[..., Y])
-        params[..., THETA] = np.where(has[..., 3], np.radians(np.nan_to_num(numbers[..., 3])), params[..., THETA])
+    params = np.zeros(mapped.element_ids.shape + (PLACEMENT_GENES,), dtype=np.float64)
+    _placement_kernel(mapped.element_ids, mapped.n_elements, genes, mapped.numbers, ranges.size, ranges.depth,
+                      ranges.uniform, ranges.aspect, ranges.rot_lo, ranges.rot_hi, ranges.rot_free,
+                      ranges.rotations, ranges.n_rotations, float(arena.width), float(arena.height),
+                      -1.0 if grammar_scale is None else float(grammar_scale), params)
     return params
 
 

@@ -55,3 +55,43 @@ def test_size_limit_and_outside_metrics(tmp_path):
     fitness, terms = problem.score(population)
     assert fitness[0] == -np.inf  # mazegen15 rejects any element over 500
     assert terms["count"].tolist() == [2.0]
+
+
+def reference_params(mapped, genes, ranges, arena, grammar_scale):
+    """Plain NumPy placement decoding, the reference the numba kernel must equal."""
+    ids = np.maximum(mapped.element_ids, 0)
+    unit = genes.astype(np.float64) / GENE_MAX
+    size, depth, uniform = ranges.size[ids], ranges.depth[ids], ranges.uniform[ids]
+    x, y = arena.width * unit[..., 0], arena.height * unit[..., 1]
+    sx = size[..., 0] + (size[..., 1] - size[..., 0]) * unit[..., 2]
+    sy = np.where(uniform, sx, depth[..., 0] + (depth[..., 1] - depth[..., 0]) * unit[..., 3])
+    free = ranges.rot_lo[ids] + (ranges.rot_hi[ids] - ranges.rot_lo[ids]) * unit[..., 4]
+    pick = genes[..., 4].astype(np.int64) % ranges.n_rotations[ids]
+    discrete = np.take_along_axis(ranges.rotations[ids], pick[..., None], axis=-1)[..., 0]
+    angle = np.where(ranges.rot_free[ids], free, discrete)
+    if grammar_scale is not None:
+        n = mapped.numbers
+        has = ~np.isnan(n)
+        sx = np.where(has[..., 0], n[..., 0] * grammar_scale, sx)
+        sy = np.where(has[..., 0], np.where(uniform, sx, sx * ranges.aspect[ids]), sy)
+        x, y = np.where(has[..., 1], n[..., 1], x), np.where(has[..., 2], n[..., 2], y)
+        angle = np.where(has[..., 3], n[..., 3], angle)
+    params = np.stack([x, y, sx, sy, np.radians(angle)], axis=-1)
+    present = np.arange(ids.shape[1])[None, :] < mapped.n_elements[:, None]
+    return np.where(present[..., None], params, 0.0)
+
+
+@pytest.mark.parametrize("example", ["factory.maze", "mazegen1.maze", "table1/exp1.maze"])
+def test_placement_kernel_equals_numpy_reference(example, tmp_path):
+    from mazegen.runtime.population import placement_params
+
+    problem = problem_of(EXAMPLES / example, tmp_path)
+    rng = np.random.default_rng(11)
+    codons = rng.integers(0, 256, size=(3000, problem.spec.evolution.genome), dtype=np.int32)
+    genes = rng.integers(0, GENE_MAX + 1, size=(3000, problem.slots, 5), dtype=np.uint16)
+    mapped, _ = problem.decode(codons, genes)
+    assert mapped.n_elements.max() >= 3
+    placement = problem.spec.scenario.placement
+    scale = None if placement is None else placement.scale
+    expected = reference_params(mapped, genes, problem.ranges, problem.spec.arena, scale)
+    assert np.array_equal(placement_params(mapped, genes, problem.ranges, problem.spec.arena, scale), expected)
