@@ -137,8 +137,6 @@ def _normalise(points: Sequence[Point]) -> list[Point]:
     xs = [p[0] for p in points]
     ys = [p[1] for p in points]
     span = max(max(xs) - min(xs), max(ys) - min(ys))
-    if span <= 0:
-        raise ValueError("shape has no extent")
     cx, cy = (max(xs) + min(xs)) / 2, (max(ys) + min(ys)) / 2
     return [((x - cx) / span, (y - cy) / span) for x, y in points]
 

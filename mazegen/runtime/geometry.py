@@ -3,7 +3,7 @@
 A population of ``N`` individuals with at most ``K`` elements each is stored as
 
 * ``element_ids`` int32[N, K]: element type ids (rows of an :class:`ElementTable`),
-  ``-1`` padding after the used entries;
+  ``-1`` padding after the used entries (which must hold valid ids);
 * ``n_elements`` int32[N]: how many leading entries of each row are used;
 * ``params`` float64[N, K, 5]: ``(x, y, sx, sy, theta)``, theta in radians,
   counter-clockwise; ``sx`` and ``sy`` are positive.
@@ -27,7 +27,7 @@ from numba import njit, prange
 from mazegen.spec import ElementType
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ElementTable:
     """The parts of every element type as padded arrays (E types, P parts, V vertices).
 
@@ -75,8 +75,17 @@ def overlapping_pairs(table: ElementTable, element_ids: np.ndarray, n_elements: 
     Two elements overlap when any part of one overlaps any part of the other
     (exact separating-axis test); touching boundaries do not count.
 
+    Args:
+        table: Parts of the element types.
+        element_ids: int32[N, K] type ids, -1 padding.
+        n_elements: int32[N] used entries per individual.
+        params: float64[N, K, 5] ``(x, y, sx, sy, theta)``.
+
     Returns:
         int32[N] pair counts.
+
+    Raises:
+        ValueError: If the arrays' shapes, counts or ids are inconsistent.
     """
     ids, n_el, prm = _population(table, element_ids, n_elements, params)
     out = np.zeros(ids.shape[0], np.int32)
@@ -89,6 +98,9 @@ def overlapping_pairs(table: ElementTable, element_ids: np.ndarray, n_elements: 
 def elements_outside(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
                      params: np.ndarray, width: float, height: float) -> np.ndarray:
     """Count, per individual, the elements with a vertex outside ``[0, width] × [0, height]``.
+
+    A vertex on the boundary is inside. Arguments are as for
+    :func:`overlapping_pairs`, plus the arena size.
 
     Returns:
         int32[N] element counts.
@@ -104,7 +116,7 @@ def elements_outside(table: ElementTable, element_ids: np.ndarray, n_elements: n
 
 def element_bounds(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
                    params: np.ndarray) -> np.ndarray:
-    """World bounding boxes of every element.
+    """World bounding boxes of every element (arguments as for :func:`overlapping_pairs`).
 
     Returns:
         float64[N, K, 4] as ``(xmin, ymin, xmax, ymax)``, NaN for padding.
@@ -118,7 +130,16 @@ def element_bounds(table: ElementTable, element_ids: np.ndarray, n_elements: np.
 
 
 def world_parts(table: ElementTable, element_id: int, param_row: Sequence[float]) -> list[np.ndarray]:
-    """World vertices of one element, one (n, 2) array per part, counter-clockwise."""
+    """World vertices of one element, computed exactly as the kernels do.
+
+    Args:
+        table: Parts of the element types.
+        element_id: Row of ``table``.
+        param_row: ``(x, y, sx, sy, theta)``.
+
+    Returns:
+        One float64 (n, 2) array per part, counter-clockwise.
+    """
     n_p, n_v = table.unit.shape[1:3]
     wv = np.empty((1, n_p, n_v, 2))
     pbox = np.empty((1, n_p, 4))
@@ -231,14 +252,14 @@ def _world_element(n_parts, n_vertices, unit, offset, e, x, y, sx, sy, theta, wv
 
 
 @njit(cache=True, inline="always")
-def _boxes_meet(box, i, other, j):
+def _boxes_meet(box, a, b):
     """True if two boxes' interiors intersect (touching boxes do not meet).
 
     Non-short-circuit ``&``: random boxes make the branches of ``and``
     unpredictable, which cost more than the comparisons.
     """
-    return ((box[i, 0] < other[j, 2]) & (other[j, 0] < box[i, 2])
-            & (box[i, 1] < other[j, 3]) & (other[j, 1] < box[i, 3]))
+    return ((box[a, 0] < box[b, 2]) & (box[b, 0] < box[a, 2])
+            & (box[a, 1] < box[b, 3]) & (box[b, 1] < box[a, 3]))
 
 
 @njit(cache=True, inline="always")
@@ -267,6 +288,7 @@ def _edge_separates(wv, ka, pa, na, kb, pb, nb):
 
 @njit(cache=True, inline="always")
 def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox):
+    """True if some part of element ``a`` (type ``ea``) overlaps some part of ``b`` (type ``eb``)."""
     for pa in range(n_parts[ea]):
         for pb in range(n_parts[eb]):
             if not ((pbox[a, pa, 0] < pbox[b, pb, 2]) & (pbox[b, pb, 0] < pbox[a, pa, 2])
@@ -318,7 +340,7 @@ def _overlap_kernel(n_parts, n_vertices, unit, offset, unit_radius, offset_radiu
                         placed[k] = True
                 a = pairs[q, 0]
                 b = pairs[q, 1]
-                if _boxes_meet(ebox, a, ebox, b):
+                if _boxes_meet(ebox, a, b):
                     count += _elements_overlap(n_parts, n_vertices, ids[i, a], a, ids[i, b], b, wv, pbox)
             out[i] = count
 

@@ -257,7 +257,7 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
 
 
 def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int = 0, consume: str = "eager",
-                   max_elements: int, max_depth: int = 90) -> PopulationMap:
+                   max_elements: int, max_depth: int = 90, out: PopulationMap | None = None) -> PopulationMap:
     """Map every row of ``codons`` and extract its elements, in parallel.
 
     Validity and ``used_codons`` equal :func:`map_genome` with the same options
@@ -271,9 +271,11 @@ def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int 
         consume: As :func:`map_genome`.
         max_elements: Element slots; an individual deriving more is invalid.
         max_depth: As :func:`map_genome`.
+        out: Arrays to overwrite instead of allocating new ones (same shapes and
+            dtypes as the result), e.g. to spare fresh memory every generation.
 
     Returns:
-        The population's arrays.
+        The population's arrays (``out`` if given).
     """
     _check_options(wraps, consume, max_depth)
     codons = np.ascontiguousarray(codons)
@@ -282,17 +284,19 @@ def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int 
     if max_elements < 0:
         raise ValueError("max_elements must be >= 0")
     n = codons.shape[0]
-    result = PopulationMap(
-        valid=np.empty(n, np.bool_), used_codons=np.empty(n, np.int32), n_elements=np.empty(n, np.int32),
-        element_ids=np.empty((n, max_elements), np.int32),
-        numbers=np.empty((n, max_elements, NUMBERS_PER_ELEMENT), np.float64))
+    layout = [((n,), np.bool_), ((n,), np.int32), ((n,), np.int32), ((n, max_elements), np.int32),
+              ((n, max_elements, NUMBERS_PER_ELEMENT), np.float64)]
+    result = out or PopulationMap(*(np.empty(shape, dtype) for shape, dtype in layout))
+    arrays = (result.valid, result.used_codons, result.n_elements, result.element_ids, result.numbers)
+    if any(a.shape != shape or a.dtype != dtype or not a.flags.c_contiguous
+           for a, (shape, dtype) in zip(arrays, layout)):
+        raise ValueError("out does not fit this population and max_elements")
     c = compiled
     grammar = (c.start, c.rule_alts, c.alt_symbols, c.alt_nonterminals, c.symbols, c.term_chars, c.chars,
                c.trie, c.trie_element, _CLASSES)
     options = (min(n, 8 * get_num_threads()), (max_depth + 3) * c.max_alt_len + 1, consume == "lazy",
                consume == "eager" and wraps == 0, _codon_limit(codons.shape[1], wraps, consume), max_depth)
-    _map_all(codons, grammar, options,
-             (result.valid, result.used_codons, result.n_elements, result.element_ids, result.numbers))
+    _map_all(codons, grammar, options, arrays)
     return result
 
 
@@ -308,7 +312,7 @@ def _map_all(codons, grammar, options, out):  # pragma: no cover - compiled
             valid[i], used[i], n_elements[i] = _map_one(codons, i, grammar, options, stack, depths, out)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cover - compiled
     """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped."""
     start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie, trie_element, classes = grammar

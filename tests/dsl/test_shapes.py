@@ -115,6 +115,11 @@ def test_convex_polygon_is_one_part_and_clockwise_input_is_reversed() -> None:
     assert (_cross(np.asarray(part.unit)) > 0).all()
 
 
+def test_straight_vertices_are_dropped() -> None:
+    (part,) = polygon_parts([(0, 0), (1, 0), (2, 0), (2, 1), (2, 2), (0, 2), (0, 1)])
+    assert part.unit == ((-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5))
+
+
 @pytest.mark.parametrize("name", NON_CONVEX)
 def test_non_convex_parts_tile_the_normalised_polygon(name: str) -> None:
     parts = SHAPES[f"polygon_{name}"]

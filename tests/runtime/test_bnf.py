@@ -88,7 +88,8 @@ def test_blank_alternatives_are_skipped_and_empty_quotes_are_terminals() -> None
 
 
 def test_lone_angle_brackets_are_text() -> None:
-    assert alternatives("<a> ::= x < y | << | a<=b | <") == ((T("x < y"),), (T("<<"),), (T("a<=b"),), (T("<"),))
+    assert alternatives("<a> ::= x < y | << | a<=b | <") == (
+        (T("x < y"),), (T("<<"),), (T("a<=b"),), (T("<"),))
 
 
 def test_crlf_line_endings() -> None:

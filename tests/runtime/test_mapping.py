@@ -53,6 +53,29 @@ def ponyge2(grammar: Grammar, genome: list[int], max_tree_depth: int = 90) -> tu
     return (None if stack else "".join(output)), used
 
 
+def textbook(grammar: Grammar, genome: list[int], consume: str, wraps: int,
+             max_depth: int) -> tuple[str | None, int]:
+    """The usual mapping, rewriting a sentential form left to right (PonyGE2's depth rule)."""
+    form, i, used, deepest = [Symbol(grammar.start, True)], 0, 0, 1
+    depths = [1]
+    while i < len(form) and deepest <= max_depth:
+        deepest = max(deepest, depths[i])
+        if not form[i].nonterminal:
+            i += 1
+            continue
+        choices = grammar.rules[form[i].text]
+        if consume == "lazy" and len(choices) == 1:
+            chosen = choices[0]
+        elif used == len(genome) * (wraps + 1):
+            break
+        else:
+            chosen = choices[genome[used % len(genome)] % len(choices)]
+            used += 1
+        form[i:i + 1] = chosen
+        depths[i:i + 1] = [depths[i] + 1] * len(chosen)
+    return (None if i < len(form) else "".join(s.text for s in form)), used
+
+
 def test_paper_example() -> None:
     genome = [34, 10, 200, 80, 5, 70, 45, 43]
     assert map_genome(PAPER, genome) == MapResult("eshape(angle)", True, 3)
@@ -128,7 +151,8 @@ def test_depth_limit(options: dict) -> None:
 def test_lazy_unit_cycle_stops_at_the_depth_limit() -> None:
     grammar = parse_bnf("<s> ::= <loop> | z\n<loop> ::= <loop>")
     assert map_genome(grammar, [0], consume="lazy") == MapResult(None, False, 1)
-    result = map_population(compile_grammar(grammar, ()), np.array([[0], [1]]), consume="lazy", max_elements=1)
+    result = map_population(compile_grammar(grammar, ()), np.array([[0], [1]]), consume="lazy",
+                            max_elements=1)
     assert list(result.valid) == [False, True]
     assert list(result.used_codons) == [1, 1]
 
@@ -150,6 +174,18 @@ def test_default_mode_equals_ponyge2(name: str, max_depth: int) -> None:
         assert (result.phenotype, result.used_codons) == ponyge2(grammar, genome, max_depth), genome
 
 
+@pytest.mark.parametrize("name", sorted(CASES))
+@pytest.mark.parametrize(("consume", "wraps"), [("eager", 1), ("eager", 3), ("lazy", 0), ("lazy", 2)])
+def test_other_modes_equal_textbook(name: str, consume: str, wraps: int) -> None:
+    grammar = CASES[name][0]
+    rng = np.random.default_rng(8)
+    for _ in range(1000):
+        genome = [int(c) for c in rng.integers(0, 256, rng.integers(1, 12))]
+        max_depth = int(rng.choice([4, 90]))
+        result = map_genome(grammar, genome, consume=consume, wraps=wraps, max_depth=max_depth)
+        assert (result.phenotype, result.used_codons) == textbook(grammar, genome, consume, wraps, max_depth)
+
+
 def test_extract_elements() -> None:
     text = "3 cobot(1, -2.5, 3, 4, 5) wall 7 x1 ; 8 walls wall(-0.25) cobot2 4. 1.2.3 --6"
     assert extract_elements(text, ("cobot", "wall")) == [
@@ -164,7 +200,8 @@ def test_extract_elements() -> None:
     ("wall wall wall", ("wall",), 2, None),
     ("<e>\n<e> ::= <e>", ("wall",), 2, None),
 ])
-def test_kernel_elements(text: str, elements: tuple[str, ...], max_elements: int, expected: list | None) -> None:
+def test_kernel_elements(text: str, elements: tuple[str, ...], max_elements: int,
+                         expected: list | None) -> None:
     grammar = parse_bnf("<s> ::= " + text)
     result = map_population(compile_grammar(grammar, elements), np.zeros((2, 3), np.int64),
                             max_elements=max_elements)
@@ -183,9 +220,9 @@ def test_kernel_elements(text: str, elements: tuple[str, ...], max_elements: int
     assert (result.element_ids[:, len(expected):] == -1).all()
 
 
-def _check_kernel(grammar: Grammar, elements: tuple[str, ...], codons: np.ndarray, **options: object) -> None:
+def _check_kernel(grammar: Grammar, elements: tuple[str, ...], codons: np.ndarray, max_elements: int = 4,
+                  **options: object) -> None:
     """Assert the kernel agrees with the reference mapper and tokeniser on every row."""
-    max_elements = 4
     result = map_population(compile_grammar(grammar, elements), codons, max_elements=max_elements, **options)
     for i, genome in enumerate(codons.tolist()):
         reference = map_genome(grammar, genome, **options)  # type: ignore[arg-type]
@@ -207,9 +244,10 @@ def _check_kernel(grammar: Grammar, elements: tuple[str, ...], codons: np.ndarra
 def test_kernel_equals_reference(name: str, consume: str, wraps: int) -> None:
     grammar, elements = CASES[name]
     rng = np.random.default_rng([len(name), wraps, consume == "lazy"])
-    for length, max_depth in [(1, 90), (3, 90), (8, 5), (16, 90), (32, 8)]:
+    for length, max_depth, max_elements in [(1, 90, 3), (3, 90, 4), (8, 5, 2), (16, 90, 4), (32, 8, 2)]:
         codons = rng.integers(0, 256, (300, length))
-        _check_kernel(grammar, elements, codons, consume=consume, wraps=wraps, max_depth=max_depth)
+        _check_kernel(grammar, elements, codons, max_elements, consume=consume, wraps=wraps,
+                      max_depth=max_depth)
 
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.int16, np.int32, np.uint32, np.int64])
@@ -226,13 +264,31 @@ def test_kernel_negative_codons_and_empty_genomes() -> None:
                           max_elements=2).valid.shape == (0,)
 
 
+def test_kernel_reuses_out_arrays() -> None:
+    grammar, elements = CASES["placed"]
+    compiled = compile_grammar(grammar, elements)
+    rng = np.random.default_rng(11)
+    first, second = rng.integers(0, 256, (2, 500, 24))
+    out = map_population(compiled, first, max_elements=3)
+    again = map_population(compiled, second, max_elements=3, out=out)
+    fresh = map_population(compiled, second, max_elements=3)
+    assert again is out
+    for name in ("valid", "used_codons", "n_elements", "element_ids", "numbers"):
+        assert np.array_equal(getattr(again, name), getattr(fresh, name), equal_nan=True), name
+    with pytest.raises(ValueError, match="out does not fit"):
+        map_population(compiled, second, max_elements=4, out=out)
+
+
+NO_ELEMENTS = compile_grammar(PAPER, ())
+
+
 @pytest.mark.parametrize(("call", "message"), [
     (lambda: map_genome(PAPER, [1], consume="greedy"), "consume must be"),
     (lambda: map_genome(PAPER, [1], wraps=-1), "wraps must be"),
     (lambda: map_genome(PAPER, [1], max_depth=0), "max_depth >= 1"),
-    (lambda: map_population(compile_grammar(PAPER, ()), np.zeros(3, np.int64), max_elements=1), "2-D integer"),
-    (lambda: map_population(compile_grammar(PAPER, ()), np.zeros((3, 2)), max_elements=1), "2-D integer"),
-    (lambda: map_population(compile_grammar(PAPER, ()), np.zeros((3, 2), int), max_elements=-1), "max_elements"),
+    (lambda: map_population(NO_ELEMENTS, np.zeros(3, np.int64), max_elements=1), "2-D integer"),
+    (lambda: map_population(NO_ELEMENTS, np.zeros((3, 2)), max_elements=1), "2-D integer"),
+    (lambda: map_population(NO_ELEMENTS, np.zeros((3, 2), int), max_elements=-1), "max_elements"),
     (lambda: compile_grammar(PAPER, ("angle", "angle")), "repeat"),
     (lambda: compile_grammar(PAPER, ("two words",)), "not an identifier"),
     (lambda: compile_grammar(PAPER, ("héllo",)), "not an identifier"),
