@@ -64,14 +64,22 @@ def _bnf_text(symbol: Any) -> str:
     return f"'{text}'" if '"' in text else f'"{text}"'
 
 
+def _edge_is_word(symbol: Any, *, end: bool) -> bool:
+    """Whether a symbol may end (or start) with a word character once derived."""
+    if type(symbol).__name__ != "TextSymbol":
+        return True  # element names are words; a rule may derive one
+    return bool(symbol.text) and bool(_WORD.match(symbol.text[-1] if end else symbol.text[0]))
+
+
 def _bnf_alternative(alternative: Any) -> str:
     pieces: list[str] = []
+    previous = None
     for symbol in alternative.symbols:
-        text = _bnf_text(symbol)
-        # Two adjacent words would fuse into one (`cobot router`); keep them apart.
-        if pieces and type(symbol).__name__ == "ElementUse" and _WORD.match(pieces[-1][-1]):
+        # Two words side by side would fuse (`cobotrouter`) and no longer name elements.
+        if previous is not None and _edge_is_word(previous, end=True) and _edge_is_word(symbol, end=False):
             pieces.append(" ")
-        pieces.append(text)
+        pieces.append(_bnf_text(symbol))
+        previous = symbol
     return "".join(pieces)
 
 

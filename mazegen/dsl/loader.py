@@ -15,7 +15,7 @@ from textx.exceptions import TextXSemanticError, TextXSyntaxError
 from mazegen.dsl.blocks import convert_arena, convert_evolution, convert_fitness, convert_scenario
 from mazegen.dsl.elements import convert_element
 from mazegen.dsl.language import metamodel
-from mazegen.dsl.located import fail, suggestion, where
+from mazegen.dsl.located import display_path, fail, suggestion, where
 from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.errors import MazeError
 from mazegen.spec import Spec
@@ -49,20 +49,10 @@ def bundled_libraries() -> list[str]:
     return sorted(p.stem for p in LIBRARY_DIR.glob("*.maze"))
 
 
-def _label(path: Path) -> str:
-    if path.is_relative_to(LIBRARY_DIR):
-        return f"<mazegen>/library/{path.name}"
-    with contextlib.suppress(ValueError):
-        relative = os.path.relpath(path)
-        if not relative.startswith(".."):
-            return relative
-    return str(path)
-
-
 def parse_file(path: Path) -> ParsedFile:
     """Parse one file; syntax errors become a located :class:`MazeError`."""
     path = path.resolve()
-    label = _label(path)
+    label = display_path(path)
     try:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as error:
@@ -107,8 +97,8 @@ def _collect(main: ParsedFile) -> list[ParsedFile]:
     return files
 
 
-def spec_from_files(files: list[ParsedFile]) -> Spec:
-    """Check and convert the main file (``files[0]``) and its imports."""
+def _declarations(files: list[ParsedFile]) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
+    """Element and arena declarations of all files (names unique) and the main file's blocks."""
     main = files[0]
     element_decls: dict[str, Any] = {}
     arena_decls: dict[str, Any] = {}
@@ -129,6 +119,13 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
                            f"(first at {where(singles[kind])})")
             else:
                 singles[kind] = decl
+    return element_decls, arena_decls, singles
+
+
+def spec_from_files(files: list[ParsedFile]) -> Spec:
+    """Check and convert the main file (``files[0]``) and its imports."""
+    main = files[0]
+    element_decls, arena_decls, singles = _declarations(files)
     if "ScenarioDecl" not in singles:
         raise MazeError("no scenario declared (a spec needs 'scenario NAME on ARENA { ... }')",
                         filename=main.label)
@@ -151,13 +148,11 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
 
 def check_library(files: list[ParsedFile]) -> None:
     """Check a file that declares no scenario (an element library)."""
-    for parsed in files:
-        for decl in parsed.model.declarations:
-            kind = type(decl).__name__
-            if kind == "ElementDecl":
-                convert_element(decl)
-            elif kind == "ArenaDecl":
-                convert_arena(decl)
+    element_decls, arena_decls, _ = _declarations(files)
+    for decl in element_decls.values():
+        convert_element(decl)
+    for decl in arena_decls.values():
+        convert_arena(decl)
 
 
 def load_spec(path: str | os.PathLike[str]) -> Spec:

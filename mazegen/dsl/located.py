@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import difflib
+import os
 from collections.abc import Iterable
 from typing import Any, NoReturn
 
@@ -11,16 +13,31 @@ from textx import get_location
 from mazegen.errors import MazeError
 
 
+def display_path(path: str | os.PathLike[str]) -> str:
+    """A path as errors show it: relative to the working directory when below it."""
+    with contextlib.suppress(ValueError):
+        relative = os.path.relpath(path)
+        if not relative.startswith(".."):
+            return relative
+    return os.path.abspath(path)
+
+
+def _location(obj: Any) -> tuple[str | None, int, int]:
+    loc = get_location(obj)
+    filename = loc["filename"]
+    return (display_path(filename) if filename else None), loc["line"], loc["col"]
+
+
 def fail(obj: Any, message: str) -> NoReturn:
     """Raise a :class:`MazeError` located at the textX object ``obj``."""
-    where = get_location(obj)
-    raise MazeError(message, filename=where["filename"], line=where["line"], col=where["col"])
+    filename, line, col = _location(obj)
+    raise MazeError(message, filename=filename, line=line, col=col)
 
 
 def where(obj: Any) -> str:
     """``file:line:col`` of a textX object, for messages that point elsewhere."""
-    loc = get_location(obj)
-    return f"{loc['filename']}:{loc['line']}:{loc['col']}"
+    filename, line, col = _location(obj)
+    return f"{filename}:{line}:{col}"
 
 
 def suggestion(name: str, known: Iterable[str]) -> str:

@@ -8,18 +8,21 @@ symbol has a depth (the start symbol 1, children one more than their parent).
 Two rule sets, chosen by the options:
 
 * ``consume="eager", wraps=0`` (the default) is exactly PonyGE2's
-  ``map_ind_from_genome`` with ``MAX_WRAPS=0``, quirks included: a wrap is
-  counted when all ``n`` codons are used while a non-terminal is still on the
-  stack, and the loop ends only after the item being popped is processed, so a
-  non-terminal met right then still reads codon 0 (``used_codons`` is ``n + 1``
-  and the individual is invalid). One-alternative rules consume a codon.
+  ``map_ind_from_genome`` with ``MAX_WRAPS=0`` and ``MAX_TREE_DEPTH=max_depth``,
+  quirks included. One-alternative rules consume a codon. A wrap is counted
+  when all ``n`` codons are used while a non-terminal is still on the stack,
+  and the loop ends only after the item popped then is processed: if it is a
+  non-terminal it still reads codon 0, so ``used_codons`` is ``n + 1``. Such an
+  individual is invalid all the same; with only terminals left, an exhausted
+  genome is valid. (An empty genome is invalid; PonyGE2 would fail on it.)
 * Any other combination is the usual definition: ``consume="lazy"`` lets rules
   with one alternative consume no codon (alogos' convention); codon ``i`` reads
   ``genome[i % n]`` and mapping is invalid once more than ``n * (wraps + 1)``
-  codons would be needed (an empty genome has none).
+  codons would be needed.
 
 Both apply PonyGE2's depth limit: a popped symbol deeper than ``max_depth`` is
-still processed, then mapping stops, and it is valid only if nothing is left.
+still processed, then mapping stops, and it is valid only if nothing is left
+(so a final terminal at depth ``max_depth + 1`` passes).
 
 :func:`map_genome` is the readable reference; :func:`map_population` maps a whole
 population with a numba kernel that gives the same results and extracts the
@@ -262,7 +265,8 @@ def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int 
 
     Validity and ``used_codons`` equal :func:`map_genome` with the same options
     (also when the element limit makes an individual invalid); the elements and
-    numbers equal :func:`extract_elements` of the reference phenotype.
+    numbers equal :func:`extract_elements` of the reference phenotype, tokens
+    spanning several terminals included (numbers are exact up to 15 digits).
 
     Args:
         compiled: The grammar from :func:`compile_grammar`.
@@ -279,10 +283,8 @@ def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int 
     """
     _check_options(wraps, consume, max_depth)
     codons = np.ascontiguousarray(codons)
-    if codons.ndim != 2 or codons.dtype.kind not in "iu":
-        raise ValueError("codons must be a 2-D integer array")
-    if max_elements < 0:
-        raise ValueError("max_elements must be >= 0")
+    if codons.ndim != 2 or codons.dtype.kind not in "iu" or max_elements < 0:
+        raise ValueError("codons must be a 2-D integer array and max_elements >= 0")
     n = codons.shape[0]
     layout = [((n,), np.bool_), ((n,), np.int32), ((n,), np.int32), ((n, max_elements), np.int32),
               ((n, max_elements, NUMBERS_PER_ELEMENT), np.float64)]
@@ -306,8 +308,7 @@ def _map_all(codons, grammar, options, out):  # pragma: no cover - compiled
     n, chunks, capacity = codons.shape[0], options[0], options[1]
     valid, used, n_elements = out[0], out[1], out[2]
     for chunk in prange(chunks):
-        stack = np.empty(capacity, np.int32)
-        depths = np.empty(capacity, np.int32)
+        stack, depths = np.empty(capacity, np.int32), np.empty(capacity, np.int32)
         for i in range(chunk * n // chunks, (chunk + 1) * n // chunks):
             valid[i], used[i], n_elements[i] = _map_one(codons, i, grammar, options, stack, depths, out)
 
@@ -376,8 +377,8 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
         ok, count = False, 0
     for e in range(count, slots):
         element_ids[i, e] = -1
-        for k in range(NUMBERS_PER_ELEMENT):
-            numbers[i, e, k] = np.nan
+        for j in range(NUMBERS_PER_ELEMENT):
+            numbers[i, e, j] = np.nan
     return ok, used, count
 
 

@@ -120,3 +120,9 @@ def test_error_in_imported_file_points_into_that_file(write_spec):
         load_spec(path)
     assert caught.value.filename.endswith("lib.maze")
     assert (caught.value.line, caught.value.col) == (1, 33)
+
+
+def test_library_check_finds_duplicate_names(write_spec):
+    path = write_spec(ELEMENT + ELEMENT)
+    with pytest.raises(MazeError, match="'box' is already declared at"):
+        check_file(path)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from mazegen.dsl.loader import load_spec
@@ -115,3 +116,17 @@ def test_hostile_text_cannot_reach_python(write_spec, tmp_path):
         compile(text, name, "exec")
     assert hostile in (out / "grammar.bnf").read_text()
     assert parse_bnf((out / "grammar.bnf").read_text()).rules["<s>"][0][0].text == "__import__" + hostile
+
+
+def test_custom_rules_separate_rules_that_derive_words(write_spec, tmp_path):
+    path = write_spec(BASE + "scenario s on canvas { grammar custom {\n"
+                             "  <s> ::= <e> <s> | <e>\n  <e> ::= square | lshape\n} }\n")
+    spec = load_spec(path)
+    assert rules_of(render_artifacts(spec)["grammar.bnf"]).splitlines()[0] == "<s> ::= <e> <s> | <e>"
+    build(spec, tmp_path / "b")
+    from mazegen.runtime.problem import Problem
+
+    problem = Problem.from_build_dir(tmp_path / "b")
+    codons = np.array([[0, 0, 1, 1, 0]], dtype=np.int32)  # <e> <s>: square, then <e>: lshape
+    mapped, _ = problem.decode(codons, np.zeros((1, problem.slots, 5), dtype=np.uint16))
+    assert mapped.element_ids[0, :2].tolist() == [0, 1]
