@@ -1,4 +1,4 @@
-"""``mazegen render SCENARIO.json -o FILE.svg|FILE.png``."""
+"""``mazegen render SCENARIO.json -o FILE.svg|FILE.png [--spec SPEC.maze]``."""
 
 from __future__ import annotations
 
@@ -13,11 +13,18 @@ from mazegen.cli.errors import reports_errors
 @click.argument("scenario", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.option("-o", "--out", required=True, type=click.Path(dir_okay=False, path_type=Path),
               help="Picture to write: .svg or .png.")
+@click.option("--spec", type=click.Path(exists=True, dir_okay=False, path_type=Path),
+              help="Recompute the arena and element outlines from this spec (for floors written by hand).")
 @reports_errors
-def render(scenario: Path, out: Path) -> None:
+def render(scenario: Path, out: Path, spec: Path | None) -> None:
     """Draw SCENARIO (a scenario JSON file) as SVG or PNG."""
     from mazegen.runtime.render import render_file
-    from mazegen.runtime.scenario import read_document
+    from mazegen.runtime.scenario import completed_document, read_document
 
-    render_file(read_document(scenario.read_text(encoding="utf-8"), str(scenario)), out)
+    document = read_document(scenario.read_text(encoding="utf-8"), str(scenario))
+    if spec is not None:
+        from mazegen.dsl.loader import load_spec
+
+        document = completed_document(load_spec(spec), document, str(scenario))
+    render_file(document, out)
     click.echo(str(out))

@@ -122,3 +122,14 @@ def population_from_document(spec: Spec, table: Any, document: dict[str, Any], f
         rotation = _number(item, "rotation", where) if "rotation" in item else 0.0
         params[0, slot] = (_number(item, "x", where), _number(item, "y", where), sx, sy, math.radians(rotation))
     return Population(ids, np.array([len(elements)], dtype=np.int32), params, np.array([True]), table, spec.arena)
+
+
+def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> dict[str, Any]:
+    """A document with the spec's arena and every element's parts recomputed (hand-written floors)."""
+    from mazegen.runtime.geometry import ElementTable
+
+    population = population_from_document(spec, ElementTable.from_types(spec.scenario_elements), document,
+                                          filename)
+    return {"format": FORMAT, "version": VERSION, "scenario": spec.name, "phenotype": None, "fitness": None,
+            "terms": {}, "valid": True, "origin": {}, **document, "arena": _arena(spec),
+            "elements": element_documents(spec, population, 0)}

@@ -175,3 +175,15 @@ def test_textx_knows_the_language_and_generator(tmp_path):
                                "-o", str(out)], capture_output=True, text=True)
     assert generate.returncode == 0, generate.stderr
     assert "<composed> ::=" in (out / "grammar.bnf").read_text()
+
+
+def test_render_a_hand_drawn_floor_with_its_spec(tmp_path):
+    floor = {"format": "mazegen-scenario", "version": 1,
+             "elements": [{"type": "productionLine", "x": 700, "y": 500, "width": 400, "depth": 80}]}
+    path = tmp_path / "floor.json"
+    path.write_text(json.dumps(floor))
+    without = invoke("render", str(path), "-o", str(tmp_path / "a.svg"))
+    assert without.exit_code == 1
+    done = invoke("render", str(path), "-o", str(tmp_path / "a.svg"), "--spec", str(EXAMPLES / "factory.maze"))
+    assert done.exit_code == 0, done.output
+    assert (tmp_path / "a.svg").read_text().count("<polygon") == 1
