@@ -23,9 +23,16 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 PAPER = ROOT.parent / "shared" / "anchors" / "mazegen-results"
 # experiment -> (BNF_Version, Population, Fitnes_Function) in the paper's CSV
-PAPER_KEYS = {1: ("1", "1000", "ffv1"), 2: ("1", "5000", "ffv1"), 3: ("1.5", "1000", "ffv15np"),
-              4: ("1.5", "5000", "ffv15np"), 5: ("1.5", "1000", "ffv15p"), 6: ("1.5", "5000", "ffv15p"),
-              7: ("1.5", "10000", "ffv15p"), 8: ("1.5", "50000", "ffv15p")}
+PAPER_KEYS = {
+    1: ("1", "1000", "ffv1"),
+    2: ("1", "5000", "ffv1"),
+    3: ("1.5", "1000", "ffv15np"),
+    4: ("1.5", "5000", "ffv15np"),
+    5: ("1.5", "1000", "ffv15p"),
+    6: ("1.5", "5000", "ffv15p"),
+    7: ("1.5", "10000", "ffv15p"),
+    8: ("1.5", "50000", "ffv15p"),
+}
 
 
 def run_one(number: int, runs: int) -> dict:
@@ -40,11 +47,19 @@ def run_one(number: int, runs: int) -> dict:
     bests = [float(r.fitness[r.fitness > float("-inf")].max()) for r in result.runs]
     evaluations = sum(sum(row.evaluations for row in r.stats) for r in result.runs)
     individuals = runs * spec.evolution.population * (spec.evolution.generations + 1)
-    return {"experiment": number, "population": spec.evolution.population,
-            "generations": spec.evolution.generations, "runs": runs, "seconds": seconds,
-            "seconds_per_run": seconds / runs, "individuals_per_s": individuals / seconds,
-            "evaluations": evaluations, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
-            "best_max": max(bests), "best_mean": statistics.mean(bests)}
+    return {
+        "experiment": number,
+        "population": spec.evolution.population,
+        "generations": spec.evolution.generations,
+        "runs": runs,
+        "seconds": seconds,
+        "seconds_per_run": seconds / runs,
+        "individuals_per_s": individuals / seconds,
+        "evaluations": evaluations,
+        "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "best_max": max(bests),
+        "best_mean": statistics.mean(bests),
+    }
 
 
 def paper_figures() -> dict[int, dict]:
@@ -65,8 +80,10 @@ def paper_figures() -> dict[int, dict]:
     figures = {}
     for number, key in PAPER_KEYS.items():
         runs = per_run.get(key, {})
-        figures[number] = {"paper_best_mean": statistics.mean(runs.values()) if runs else None,
-                           "paper_minutes": minutes.get(key[:2])}
+        figures[number] = {
+            "paper_best_mean": statistics.mean(runs.values()) if runs else None,
+            "paper_minutes": minutes.get(key[:2]),
+        }
     return figures
 
 
@@ -83,18 +100,27 @@ def main() -> None:
     paper = paper_figures()
     rows = []
     for number in args.experiments:
-        done = subprocess.run([sys.executable, __file__, "--single", str(number), "--runs", str(args.runs)],
-                              capture_output=True, text=True, check=True)
+        done = subprocess.run(
+            [sys.executable, __file__, "--single", str(number), "--runs", str(args.runs)],
+            capture_output=True,
+            text=True,
+            check=True,
+        )
         rows.append({**json.loads(done.stdout.splitlines()[-1]), **paper.get(number, {})})
-    print("| exp | population × generations | runs | total s | s/run | individuals/s | peak RSS MB "
-          "| best (max / mean of runs) | paper: mean best | paper: minutes |")
+    print(
+        "| exp | population × generations | runs | total s | s/run | individuals/s | peak RSS MB "
+        "| best (max / mean of runs) | paper: mean best | paper: minutes |"
+    )
     print("|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         paper_best = "—" if r.get("paper_best_mean") is None else f"{r['paper_best_mean']:.2f}"
         paper_minutes = "—" if r.get("paper_minutes") is None else f"{r['paper_minutes']:g}"
-        print(f"| {r['experiment']} | {r['population']:,} × {r['generations']} | {r['runs']} | {r['seconds']:.1f} "
-              f"| {r['seconds_per_run']:.2f} | {r['individuals_per_s']:,.0f} | {r['peak_rss_mb']:.0f} "
-              f"| {r['best_max']:g} / {r['best_mean']:.2f} | {paper_best} | {paper_minutes} |")
+        print(
+            f"| {r['experiment']} | {r['population']:,} × {r['generations']} | {r['runs']} "
+            f"| {r['seconds']:.1f} | {r['seconds_per_run']:.2f} | {r['individuals_per_s']:,.0f} "
+            f"| {r['peak_rss_mb']:.0f} "
+            f"| {r['best_max']:g} / {r['best_mean']:.2f} | {paper_best} | {paper_minutes} |"
+        )
     print(f"\ntotal: {sum(r['seconds'] for r in rows):.1f} s")
     with open(args.csv, "w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(rows[0]))

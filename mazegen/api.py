@@ -38,10 +38,17 @@ def build(spec: Spec, out_dir: str | os.PathLike[str]) -> list[Path]:
     return build_files(spec, Path(out_dir))
 
 
-def run(spec: Spec | str | os.PathLike[str], *, seed: int | None = None, runs: int | None = None,
-        population: int | None = None, generations: int | None = None,
-        out_dir: str | os.PathLike[str] | None = None, force: bool = False,
-        reporter: Reporter | None = None) -> ExperimentResult:
+def run(
+    spec: Spec | str | os.PathLike[str],
+    *,
+    seed: int | None = None,
+    runs: int | None = None,
+    population: int | None = None,
+    generations: int | None = None,
+    out_dir: str | os.PathLike[str] | None = None,
+    force: bool = False,
+    reporter: Reporter | None = None,
+) -> ExperimentResult:
     """Run a spec (a :class:`Spec`, a ``.maze`` file or a build directory).
 
     Settings given here override the spec's evolution block. With ``out_dir`` the
@@ -52,8 +59,11 @@ def run(spec: Spec | str | os.PathLike[str], *, seed: int | None = None, runs: i
 
     def _run(build_dir: Path) -> ExperimentResult:
         experiment = Experiment.from_build_dir(build_dir).with_settings(
-            seed=seed, runs=runs, population=population, generations=generations)
-        return experiment.run(out_dir=None if out_dir is None else Path(out_dir), force=force, reporter=reporter)
+            seed=seed, runs=runs, population=population, generations=generations
+        )
+        return experiment.run(
+            out_dir=None if out_dir is None else Path(out_dir), force=force, reporter=reporter
+        )
 
     if not isinstance(spec, Spec) and Path(spec).is_dir():
         return _run(Path(spec))

@@ -13,8 +13,9 @@ class MazeError(Exception):
         col: 1-based column, if known.
     """
 
-    def __init__(self, message: str, *, filename: str | None = None,
-                 line: int | None = None, col: int | None = None) -> None:
+    def __init__(
+        self, message: str, *, filename: str | None = None, line: int | None = None, col: int | None = None
+    ) -> None:
         super().__init__(message)
         self.message = message
         self.filename = filename

@@ -221,8 +221,15 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         for e in data["elements"]
     )
     a = data["arena"]
-    arena = Arena(a["name"], float(a["width"]), float(a["height"]), a["unit"],
-                  _pair(a["start"]), _pair(a["goal"]), float(a["robot_radius"]))  # type: ignore[arg-type]
+    arena = Arena(
+        a["name"],
+        float(a["width"]),
+        float(a["height"]),
+        a["unit"],
+        _pair(a["start"]),
+        _pair(a["goal"]),
+        float(a["robot_radius"]),
+    )  # type: ignore[arg-type]
     s = data["scenario"]
     placement = s["placement"]
     scenario = Scenario(
@@ -232,9 +239,13 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         grammar=s["grammar"],
         custom_rules=tuple((lhs, tuple(alts)) for lhs, alts in s["custom_rules"]),
         max_elements=int(s["max_elements"]),
-        placement=None if placement is None else GrammarPlacement(
-            tuple(placement["sizes"]), float(placement["scale"]), tuple(placement["positions"])),
+        placement=None
+        if placement is None
+        else GrammarPlacement(
+            tuple(placement["sizes"]), float(placement["scale"]), tuple(placement["positions"])
+        ),
     )
     fitness = tuple(FitnessTerm(**t) for t in data["fitness"])
-    return Spec(data["name"], data["source"], elements, arena, scenario, fitness,
-                Evolution(**data["evolution"]))
+    return Spec(
+        data["name"], data["source"], elements, arena, scenario, fitness, Evolution(**data["evolution"])
+    )

@@ -13,8 +13,12 @@ from mazegen.generator.build import build as build_files
 
 @click.command()
 @click.argument("spec", type=click.Path(dir_okay=False))
-@click.option("-o", "--out", type=click.Path(file_okay=False, path_type=Path),
-              help="Output directory (default build/<scenario name>).")
+@click.option(
+    "-o",
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Output directory (default build/<scenario name>).",
+)
 @reports_errors
 def build(spec: str, out: Path | None) -> None:
     """Generate grammar.bnf, fitness.py, experiment.py and spec.json from SPEC."""

@@ -23,24 +23,35 @@ def _genomes(path: Path) -> list[tuple[int, list[int]]]:
         try:
             genomes.append((number, [int(token) for token in _SEPARATOR.split(text) if token]))
         except ValueError:
-            raise MazeError("a genome is integers separated by spaces or commas", filename=str(path),
-                            line=number, col=1) from None
+            raise MazeError(
+                "a genome is integers separated by spaces or commas", filename=str(path), line=number, col=1
+            ) from None
     return genomes
 
 
 @click.command("map")
 @click.argument("grammar", type=click.Path(exists=True, dir_okay=False, path_type=Path))
 @click.argument("codons", nargs=-1, type=int)
-@click.option("--genomes", type=click.Path(exists=True, dir_okay=False, path_type=Path),
-              help="File with one genome per line (codons separated by spaces or commas).")
-@click.option("--wraps", type=click.IntRange(min=0), default=0, show_default=True,
-              help="Extra passes over the genome.")
-@click.option("--consume", type=click.Choice(["eager", "lazy"]), default="eager", show_default=True,
-              help="eager: one-alternative rules use a codon (PonyGE2); lazy: they do not.")
+@click.option(
+    "--genomes",
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+    help="File with one genome per line (codons separated by spaces or commas).",
+)
+@click.option(
+    "--wraps", type=click.IntRange(min=0), default=0, show_default=True, help="Extra passes over the genome."
+)
+@click.option(
+    "--consume",
+    type=click.Choice(["eager", "lazy"]),
+    default="eager",
+    show_default=True,
+    help="eager: one-alternative rules use a codon (PonyGE2); lazy: they do not.",
+)
 @click.option("--json", "as_json", is_flag=True, help="One JSON object per genome.")
 @reports_errors
-def map_command(grammar: Path, codons: tuple[int, ...], genomes: Path | None, wraps: int, consume: str,
-                as_json: bool) -> None:
+def map_command(
+    grammar: Path, codons: tuple[int, ...], genomes: Path | None, wraps: int, consume: str, as_json: bool
+) -> None:
     """Print the phenotype of each genome and the codons it used, or `invalid`."""
     from mazegen.runtime.bnf import read_bnf
     from mazegen.runtime.mapping import map_genome
@@ -57,8 +68,11 @@ def map_command(grammar: Path, codons: tuple[int, ...], genomes: Path | None, wr
             raise MazeError("a genome needs at least one codon, none negative")
         result = map_genome(parsed, genome, wraps=wraps, consume=consume)
         if as_json:
-            click.echo(json.dumps({"phenotype": result.phenotype, "valid": result.valid,
-                                   "used_codons": result.used_codons}))
+            click.echo(
+                json.dumps(
+                    {"phenotype": result.phenotype, "valid": result.valid, "used_codons": result.used_codons}
+                )
+            )
         elif result.valid:
             click.echo(f"{result.phenotype}\t{result.used_codons} codons")
         else:

@@ -11,10 +11,18 @@ from mazegen.cli.errors import reports_errors
 
 @click.command()
 @click.argument("scenario", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option("-o", "--out", required=True, type=click.Path(dir_okay=False, path_type=Path),
-              help="Picture to write: .svg or .png.")
-@click.option("--spec", type=click.Path(exists=True, dir_okay=False, path_type=Path),
-              help="Recompute the arena and element outlines from this spec (for floors written by hand).")
+@click.option(
+    "-o",
+    "--out",
+    required=True,
+    type=click.Path(dir_okay=False, path_type=Path),
+    help="Picture to write: .svg or .png.",
+)
+@click.option(
+    "--spec",
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+    help="Recompute the arena and element outlines from this spec (for floors written by hand).",
+)
 @reports_errors
 def render(scenario: Path, out: Path, spec: Path | None) -> None:
     """Draw SCENARIO (a scenario JSON file) as SVG or PNG."""

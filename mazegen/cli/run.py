@@ -15,13 +15,25 @@ from mazegen.cli.errors import reports_errors
 @click.option("--runs", type=int, help="Number of runs.")
 @click.option("--population", type=int, help="Population size.")
 @click.option("--generations", type=int, help="Number of generations.")
-@click.option("-o", "--out", type=click.Path(file_okay=False, path_type=Path),
-              help="Run directory (default runs/<scenario>-seed<seed>).")
+@click.option(
+    "-o",
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Run directory (default runs/<scenario>-seed<seed>).",
+)
 @click.option("--force", is_flag=True, help="Replace an existing run directory.")
 @click.option("-q", "--quiet", is_flag=True, help="No progress bars.")
 @reports_errors
-def run(source: Path, seed: int | None, runs: int | None, population: int | None,
-        generations: int | None, out: Path | None, force: bool, quiet: bool) -> None:
+def run(
+    source: Path,
+    seed: int | None,
+    runs: int | None,
+    population: int | None,
+    generations: int | None,
+    out: Path | None,
+    force: bool,
+    quiet: bool,
+) -> None:
     """Run the experiment of a .maze SPEC or of a BUILD_DIR made by `mazegen build`."""
     from mazegen import api
     from mazegen.runtime.experiment import summary_lines
@@ -33,8 +45,16 @@ def run(source: Path, seed: int | None, runs: int | None, population: int | None
     target = out or Path("runs") / (f"{name}-seed{chosen_seed}" if chosen_seed is not None else name)
     reporter = QuietReporter() if quiet else RichReporter()
     try:
-        outcome = api.run(spec if spec is not None else source, seed=seed, runs=runs, population=population,
-                          generations=generations, out_dir=target, force=force, reporter=reporter)
+        outcome = api.run(
+            spec if spec is not None else source,
+            seed=seed,
+            runs=runs,
+            population=population,
+            generations=generations,
+            out_dir=target,
+            force=force,
+            reporter=reporter,
+        )
     finally:
         if isinstance(reporter, RichReporter):
             reporter.close()

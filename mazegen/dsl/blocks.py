@@ -15,8 +15,11 @@ def convert_arena(decl: Any) -> Arena:
     """Check one ``arena`` block and convert it."""
     what = f"arena '{decl.name}'"
     props = single_properties(decl.properties, what)
-    for key, example in (("ArenaSize", "size 1400 x 1050 cm"), ("StartProperty", "start (60, 60)"),
-                         ("GoalProperty", "goal (1340, 990)")):
+    for key, example in (
+        ("ArenaSize", "size 1400 x 1050 cm"),
+        ("StartProperty", "start (60, 60)"),
+        ("GoalProperty", "goal (1340, 990)"),
+    ):
         if key not in props:
             fail(decl, f"{what} has no {example.split()[0]} (add e.g. '{example}')")
     size = props["ArenaSize"]
@@ -32,12 +35,15 @@ def convert_arena(decl: Any) -> Arena:
         if not (0 <= x <= size.width and 0 <= y <= size.height):
             fail(point, f"{label} ({x:g}, {y:g}) is outside the arena {size.width:g} x {size.height:g}")
         if min(x, y, size.width - x, size.height - y) < radius:
-            fail(point, f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}")
+            fail(
+                point, f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}"
+            )
         points[label] = (x, y)
     if points["start"] == points["goal"]:
         fail(props["GoalProperty"], "start and goal are the same point")
-    return Arena(decl.name, size.width, size.height, size.unit or "cm",
-                 points["start"], points["goal"], radius)
+    return Arena(
+        decl.name, size.width, size.height, size.unit or "cm", points["start"], points["goal"], radius
+    )
 
 
 def _int_values(obj: Any, what: str, *, minimum: int) -> tuple[int, ...]:
@@ -95,18 +101,23 @@ def _custom_rules(grammar: Any, known_elements: dict[str, Any]) -> tuple[tuple, 
             for symbol in alternative.symbols:
                 kind = type(symbol).__name__
                 if kind == "RuleUse" and symbol.name not in rules:
-                    fail(symbol, f"rule {symbol.name} is used but never defined{suggestion(symbol.name, rules)}")
+                    fail(
+                        symbol,
+                        f"rule {symbol.name} is used but never defined{suggestion(symbol.name, rules)}",
+                    )
                 if kind == "ElementUse":
                     if symbol.name not in known_elements:
-                        fail(symbol, f"unknown element '{symbol.name}'{suggestion(symbol.name, known_elements)}")
+                        fail(
+                            symbol,
+                            f"unknown element '{symbol.name}'{suggestion(symbol.name, known_elements)}",
+                        )
                     if symbol.name not in used:
                         used.append(symbol.name)
     converted = tuple((r.lhs, tuple(_bnf_alternative(a) for a in r.alternatives)) for r in grammar.rules)
     return converted, used
 
 
-def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, Any],
-                     genome: int) -> Scenario:
+def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, Any], genome: int) -> Scenario:
     """Check the ``scenario`` block against the declared arenas and elements."""
     what = f"scenario '{decl.name}'"
     if decl.arena not in arenas:
@@ -141,8 +152,10 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
         sizes = _int_values(prop.sizes, "sizes", minimum=1)
         positions = _int_values(prop.positions, "positions", minimum=0)
         if positions[-1] > min(arena.width, arena.height):
-            fail(prop.positions, f"positions up to {positions[-1]} go beyond the arena "
-                                 f"{arena.width:g} x {arena.height:g}")
+            fail(
+                prop.positions,
+                f"positions up to {positions[-1]} go beyond the arena {arena.width:g} x {arena.height:g}",
+            )
         scale = prop.scale if prop.scale is not None else 1.0
         if scale <= 0:
             fail(prop, f"scale must be positive, got {scale:g}")
@@ -182,8 +195,16 @@ def convert_evolution(decl: Any | None) -> Evolution:
         return Evolution()
     props = single_properties(decl.settings, "evolution")
     values: dict[str, Any] = {}
-    minimum = {"population": 1, "generations": 0, "genome": 1, "elitism": 0, "runs": 1,
-               "seed": 0, "wraps": 0, "best": 1}
+    minimum = {
+        "population": 1,
+        "generations": 0,
+        "genome": 1,
+        "elitism": 0,
+        "runs": 1,
+        "seed": 0,
+        "wraps": 0,
+        "best": 1,
+    }
     for key, low in minimum.items():
         if key in props:
             value = props[key].value
@@ -209,13 +230,21 @@ def convert_evolution(decl: Any | None) -> Evolution:
     if "CodonSetting" in props:
         codons = props["CodonSetting"].range
         if codons.low != 0 or codons.high < 1 or codons.step is not None:
-            fail(codons, f"codons must be written 0..MAX with MAX at least 1, got {codons.low}..{codons.high}")
+            fail(
+                codons, f"codons must be written 0..MAX with MAX at least 1, got {codons.low}..{codons.high}"
+            )
         values["codon_max"] = codons.high
     if "ConsumeSetting" in props:
         values["consume"] = props["ConsumeSetting"].mode
     evolution = Evolution(**values)
     if evolution.elitism >= evolution.population:
-        fail(props["elitism"], f"elitism {evolution.elitism} must be below the population {evolution.population}")
+        fail(
+            props["elitism"],
+            f"elitism {evolution.elitism} must be below the population {evolution.population}",
+        )
     if evolution.selection == "tournament" and evolution.tournament > evolution.population:
-        fail(selection, f"tournament {evolution.tournament} is larger than the population {evolution.population}")
+        fail(
+            selection,
+            f"tournament {evolution.tournament} is larger than the population {evolution.population}",
+        )
     return evolution

@@ -82,4 +82,6 @@ def convert_element(decl: Any) -> ElementType:
         if height <= 0:
             fail(props["HeightProperty"], f"height must be positive, got {height:g}")
         extras["height"] = height
-    return ElementType(name=decl.name, shape=shape.kind, parts=_parts(shape), size=size, size2=size2, **extras)
+    return ElementType(
+        name=decl.name, shape=shape.kind, parts=_parts(shape), size=size, size2=size2, **extras
+    )

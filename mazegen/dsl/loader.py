@@ -71,8 +71,11 @@ def _resolve_import(imp: Any, importer: Path) -> Path:
     if imp.library is not None:
         candidate = LIBRARY_DIR / f"{imp.library}.maze"
         if not candidate.is_file():
-            fail(imp, f"unknown library '{imp.library}'{suggestion(imp.library, bundled_libraries())}"
-                      f" (bundled: {', '.join(bundled_libraries())}; import a file with a quoted path)")
+            fail(
+                imp,
+                f"unknown library '{imp.library}'{suggestion(imp.library, bundled_libraries())}"
+                f" (bundled: {', '.join(bundled_libraries())}; import a file with a quoted path)",
+            )
         return candidate
     candidate = (importer.parent / imp.path).resolve()
     if not candidate.is_file():
@@ -112,11 +115,17 @@ def _declarations(files: list[ParsedFile]) -> tuple[dict[str, Any], dict[str, An
                     fail(decl, f"'{decl.name}' is already declared at {where(table[decl.name])}")
                 table[decl.name] = decl
             elif parsed is not main:
-                fail(decl, f"an imported file may declare only elements and arenas; {main.label} "
-                           "holds the scenario, fitness and evolution")
+                fail(
+                    decl,
+                    f"an imported file may declare only elements and arenas; {main.label} "
+                    "holds the scenario, fitness and evolution",
+                )
             elif kind in singles:
-                fail(decl, f"only one {kind.removesuffix('Decl').lower()} block per file "
-                           f"(first at {where(singles[kind])})")
+                fail(
+                    decl,
+                    f"only one {kind.removesuffix('Decl').lower()} block per file "
+                    f"(first at {where(singles[kind])})",
+                )
             else:
                 singles[kind] = decl
     return element_decls, arena_decls, singles
@@ -127,8 +136,9 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
     main = files[0]
     element_decls, arena_decls, singles = _declarations(files)
     if "ScenarioDecl" not in singles:
-        raise MazeError("no scenario declared (a spec needs 'scenario NAME on ARENA { ... }')",
-                        filename=main.label)
+        raise MazeError(
+            "no scenario declared (a spec needs 'scenario NAME on ARENA { ... }')", filename=main.label
+        )
     evolution = convert_evolution(singles.get("EvolutionDecl"))
     arenas = {name: convert_arena(decl) for name, decl in arena_decls.items()}
     scenario = convert_scenario(singles["ScenarioDecl"], arenas, element_decls, evolution.genome)

@@ -48,8 +48,10 @@ def regular_polygon_parts(sides: int) -> tuple[Part, ...]:
     if sides < 3:
         raise ValueError(f"a regular polygon needs at least 3 sides, got {sides}")
     start = -math.pi / 2 - math.pi / sides
-    ring = [(math.cos(start + 2 * math.pi * k / sides), math.sin(start + 2 * math.pi * k / sides))
-            for k in range(sides)]
+    ring = [
+        (math.cos(start + 2 * math.pi * k / sides), math.sin(start + 2 * math.pi * k / sides))
+        for k in range(sides)
+    ]
     return (_part(_normalise(ring)),)
 
 
@@ -121,10 +123,12 @@ def bar_parts(segments: Sequence[tuple[Point, Point]], thickness: float) -> tupl
         length = math.hypot(qx - px, qy - py)
         dx, dy = (qx - px) / length * half, (qy - py) / length * half
         nx, ny = -dy, dx
-        parts.append(Part(
-            unit=((px, py), (qx, qy), (qx, qy), (px, py)),
-            offset=((-nx - dx, -ny - dy), (-nx + dx, -ny + dy), (nx + dx, ny + dy), (nx - dx, ny - dy)),
-        ))
+        parts.append(
+            Part(
+                unit=((px, py), (qx, qy), (qx, qy), (px, py)),
+                offset=((-nx - dx, -ny - dy), (-nx + dx, -ny + dy), (nx + dx, ny + dy), (nx - dx, ny - dy)),
+            )
+        )
     return tuple(parts)
 
 
@@ -151,18 +155,25 @@ def _signed_area(ring: Sequence[Point]) -> float:
 
 def _on_segment(p: Point, q: Point, r: Point) -> bool:
     """True if ``r``, known to be collinear with ``pq``, lies within its bounding box."""
-    return (min(p[0], q[0]) - _EPS <= r[0] <= max(p[0], q[0]) + _EPS
-            and min(p[1], q[1]) - _EPS <= r[1] <= max(p[1], q[1]) + _EPS)
+    return (
+        min(p[0], q[0]) - _EPS <= r[0] <= max(p[0], q[0]) + _EPS
+        and min(p[1], q[1]) - _EPS <= r[1] <= max(p[1], q[1]) + _EPS
+    )
 
 
 def _segments_meet(p: Point, q: Point, r: Point, s: Point) -> bool:
     d1, d2 = _cross(r, s, p), _cross(r, s, q)
     d3, d4 = _cross(p, q, r), _cross(p, q, s)
-    if ((d1 > _EPS and d2 < -_EPS) or (d1 < -_EPS and d2 > _EPS)) and \
-            ((d3 > _EPS and d4 < -_EPS) or (d3 < -_EPS and d4 > _EPS)):
+    if ((d1 > _EPS and d2 < -_EPS) or (d1 < -_EPS and d2 > _EPS)) and (
+        (d3 > _EPS and d4 < -_EPS) or (d3 < -_EPS and d4 > _EPS)
+    ):
         return True
-    return ((abs(d1) <= _EPS and _on_segment(r, s, p)) or (abs(d2) <= _EPS and _on_segment(r, s, q))
-            or (abs(d3) <= _EPS and _on_segment(p, q, r)) or (abs(d4) <= _EPS and _on_segment(p, q, s)))
+    return (
+        (abs(d1) <= _EPS and _on_segment(r, s, p))
+        or (abs(d2) <= _EPS and _on_segment(r, s, q))
+        or (abs(d3) <= _EPS and _on_segment(p, q, r))
+        or (abs(d4) <= _EPS and _on_segment(p, q, s))
+    )
 
 
 def _self_intersects(ring: Sequence[Point]) -> bool:
@@ -174,8 +185,11 @@ def _self_intersects(ring: Sequence[Point]) -> bool:
         if abs(_cross(a, b, c)) <= _EPS and back:
             return True
     for i, j in combinations(range(n), 2):
-        if j - i > 1 and not (i == 0 and j == n - 1) and \
-                _segments_meet(ring[i], ring[i + 1], ring[j], ring[(j + 1) % n]):
+        if (
+            j - i > 1
+            and not (i == 0 and j == n - 1)
+            and _segments_meet(ring[i], ring[i + 1], ring[j], ring[(j + 1) % n])
+        ):
             return True
     return False
 
@@ -215,8 +229,9 @@ def _ear_clip(ring: Sequence[Point]) -> list[list[int]]:
             if abs(turn) <= _EPS:  # a straight vertex left by an earlier clip
                 del idx[k]
                 break
-            if turn > 0 and not any(_in_triangle(ring[p], ring[a], ring[b], ring[c])
-                                    for p in idx if p not in (a, b, c)):
+            if turn > 0 and not any(
+                _in_triangle(ring[p], ring[a], ring[b], ring[c]) for p in idx if p not in (a, b, c)
+            ):
                 triangles.append([a, b, c])
                 del idx[k]
                 break
@@ -249,7 +264,7 @@ def _join(ring: Sequence[Point], p: list[int], q: list[int]) -> list[int] | None
         m = q_edges.get((b, a))
         if m is not None:
             # p walked from b round to a, then q's vertices strictly between a and b.
-            q_from_a = q[m + 1:] + q[:m + 1]
-            joined = _drop_straight(ring, p[k + 1:] + p[:k + 1] + q_from_a[1:-1])
+            q_from_a = q[m + 1 :] + q[: m + 1]
+            joined = _drop_straight(ring, p[k + 1 :] + p[: k + 1] + q_from_a[1:-1])
             return joined if _is_convex(ring, joined) else None
     return None

@@ -44,7 +44,7 @@ def _found(text: str, line: int, col: int) -> str:
     lines = text.splitlines()
     if line - 1 >= len(lines):
         return "end of file"
-    rest = lines[line - 1][col - 1:]
+    rest = lines[line - 1][col - 1 :]
     match = _TOKEN.match(rest.lstrip())
     if match is None:
         tail = "".join(lines[line:]).strip()

@@ -18,5 +18,6 @@ def check_model(model: Any, _metamodel: Any) -> None:
     try:
         loader.check_model(model)
     except MazeError as error:
-        raise TextXSemanticError(error.message, line=error.line, col=error.col,
-                                 filename=error.filename) from None
+        raise TextXSemanticError(
+            error.message, line=error.line, col=error.col, filename=error.filename
+        ) from None

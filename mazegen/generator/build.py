@@ -45,8 +45,10 @@ def _metric(term: FitnessTerm) -> tuple[str, str]:
     if term.kind == "overlap":
         return "metrics.overlapping_pairs(pop)", "paper eq. 2: pairs of overlapping elements"
     if term.kind == "size_limit":
-        return (f"metrics.elements_over_size(pop, {float(term.limit)!r})",  # type: ignore[arg-type]
-                "paper v1.5: elements over the size limit")
+        return (
+            f"metrics.elements_over_size(pop, {float(term.limit)!r})",  # type: ignore[arg-type]
+            "paper v1.5: elements over the size limit",
+        )
     return "metrics.elements_outside(pop)", "elements not wholly inside the arena"
 
 
@@ -71,9 +73,11 @@ def render_artifacts(spec: Spec) -> dict[str, str]:
     penalised, rejecting = fitness_lines(spec)
     return {
         "grammar.bnf": env.get_template("grammar.bnf.jinja").render(
-            rules=scenario_rules(spec), style=spec.scenario.grammar, **context),
+            rules=scenario_rules(spec), style=spec.scenario.grammar, **context
+        ),
         "fitness.py": env.get_template("fitness.py.jinja").render(
-            penalised=penalised, rejecting=rejecting, **context),
+            penalised=penalised, rejecting=rejecting, **context
+        ),
         "experiment.py": env.get_template("experiment.py.jinja").render(**context),
         "spec.json": spec.to_json(),
     }

@@ -46,8 +46,13 @@ def scenario_rules(spec: Spec) -> Rules:
             (COMPOSED, [_call(n, placement, START, empty_parens=False) for n in names]),
         ]
     elif scenario.grammar == "flat":
-        rules = [(START, [_call(n, placement, None, empty_parens=True) for n in names]
-                  + [_call(n, placement, START, empty_parens=True) for n in names])]
+        rules = [
+            (
+                START,
+                [_call(n, placement, None, empty_parens=True) for n in names]
+                + [_call(n, placement, START, empty_parens=True) for n in names],
+            )
+        ]
     else:  # list
         rules = [
             (START, [ELEMENT, f"{ELEMENT} {START}"]),

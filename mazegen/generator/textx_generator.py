@@ -12,8 +12,9 @@ from mazegen.generator.build import build
 
 
 @generator("maze", "mazegen")
-def maze_generator(metamodel: Any, model: Any, output_path: str | None, overwrite: bool, debug: bool,
-                   **custom_args: Any) -> None:
+def maze_generator(
+    metamodel: Any, model: Any, output_path: str | None, overwrite: bool, debug: bool, **custom_args: Any
+) -> None:
     """Write the experiment files of the model's scenario (default ``build/<name>``)."""
     spec = spec_from_model(model)
     out = Path(output_path) if output_path else Path("build") / spec.name

@@ -172,8 +172,9 @@ def read_bnf(path: str | Path) -> Grammar:
     return parse_bnf(path.read_text(encoding="utf-8"), filename=str(path))
 
 
-def _add_alternative(rule: _Rule, text: str, start: int, end: int, source: _Source,
-                     uses: list[tuple[str, int]]) -> None:
+def _add_alternative(
+    rule: _Rule, text: str, start: int, end: int, source: _Source, uses: list[tuple[str, int]]
+) -> None:
     """Parse ``text[start:end]`` as one alternative of ``rule``, unless blank."""
     raw = text[start:end]
     body = raw.strip()

@@ -39,8 +39,9 @@ class RunResult:
     stats: tuple[GenerationStats, ...]
 
 
-def evaluate_cached(problem: Problem, codons: np.ndarray, genes: np.ndarray,
-                    cache: EvaluationCache) -> tuple[np.ndarray, int, int]:
+def evaluate_cached(
+    problem: Problem, codons: np.ndarray, genes: np.ndarray, cache: EvaluationCache
+) -> tuple[np.ndarray, int, int]:
     """Fitness of a generation, evaluating each distinct unseen genome once.
 
     Returns:
@@ -57,8 +58,9 @@ def evaluate_cached(problem: Problem, codons: np.ndarray, genes: np.ndarray,
     return fitness_unique[inverse.reshape(-1)], int(todo.size), int(unique.size)
 
 
-def breed(rng: np.random.Generator, codons: np.ndarray, genes: np.ndarray, fitness: np.ndarray,
-          settings: Evolution) -> tuple[np.ndarray, np.ndarray]:
+def breed(
+    rng: np.random.Generator, codons: np.ndarray, genes: np.ndarray, fitness: np.ndarray, settings: Evolution
+) -> tuple[np.ndarray, np.ndarray]:
     """The next generation: elites unchanged, then selected, crossed and mutated children."""
     elites = ops.ranking(fitness)[: settings.elitism]
     count = fitness.shape[0] - elites.size
@@ -71,17 +73,35 @@ def breed(rng: np.random.Generator, codons: np.ndarray, genes: np.ndarray, fitne
     return np.concatenate([codons[elites], child_codons]), np.concatenate([genes[elites], child_genes])
 
 
-def _summary(generation: int, fitness: np.ndarray, evaluations: int, unique: int,
-             seconds: float) -> GenerationStats:
+def _summary(
+    generation: int, fitness: np.ndarray, evaluations: int, unique: int, seconds: float
+) -> GenerationStats:
     valid = fitness[np.isfinite(fitness)]
-    best, mean, median = (float(valid.max()), float(valid.mean()), float(np.median(valid))) if valid.size \
+    best, mean, median = (
+        (float(valid.max()), float(valid.mean()), float(np.median(valid)))
+        if valid.size
         else (float("nan"),) * 3
-    return GenerationStats(generation, evaluations, best, mean, median, int(fitness.size - valid.size), unique,
-                           int(fitness.size - evaluations), seconds)
+    )
+    return GenerationStats(
+        generation,
+        evaluations,
+        best,
+        mean,
+        median,
+        int(fitness.size - valid.size),
+        unique,
+        int(fitness.size - evaluations),
+        seconds,
+    )
 
 
-def evolve(problem: Problem, settings: Evolution, rng: np.random.Generator, *,
-           on_generation: Callable[[GenerationStats], None] | None = None) -> RunResult:
+def evolve(
+    problem: Problem,
+    settings: Evolution,
+    rng: np.random.Generator,
+    *,
+    on_generation: Callable[[GenerationStats], None] | None = None,
+) -> RunResult:
     """Run one evolution from a random population.
 
     Args:

@@ -42,8 +42,9 @@ class ExperimentResult:
     run_dir: Path | None
 
 
-def best_documents(problem: Problem, result: RunResult, *, count: int, origin: dict[str, Any]
-                   ) -> tuple[dict[str, Any], ...]:
+def best_documents(
+    problem: Problem, result: RunResult, *, count: int, origin: dict[str, Any]
+) -> tuple[dict[str, Any], ...]:
     """The ``count`` best distinct valid scenarios of a final population, best first."""
     spec, settings = problem.spec, problem.spec.evolution
     documents: list[dict[str, Any]] = []
@@ -51,16 +52,24 @@ def best_documents(problem: Problem, result: RunResult, *, count: int, origin: d
     for index in ranking(result.fitness):
         if len(documents) == count or not np.isfinite(result.fitness[index]):
             break
-        codons, genes = result.codons[index:index + 1], result.genes[index:index + 1]
+        codons, genes = result.codons[index : index + 1], result.genes[index : index + 1]
         evaluation = problem.evaluate(codons, genes)
         terms = {key: float(values[0]) for key, values in evaluation.terms.items()}
         document = scenario_document(
-            spec, evaluation.population, 0,
-            phenotype=phenotype(problem.grammar, codons[0].tolist(), wraps=settings.wraps,
-                                consume=settings.consume),
-            fitness=float(evaluation.fitness[0]), terms=terms,
-            origin={**origin, "rank": len(documents) + 1, "codons": codons[0].tolist(),
-                    "placement": genes[0].tolist()},
+            spec,
+            evaluation.population,
+            0,
+            phenotype=phenotype(
+                problem.grammar, codons[0].tolist(), wraps=settings.wraps, consume=settings.consume
+            ),
+            fitness=float(evaluation.fitness[0]),
+            terms=terms,
+            origin={
+                **origin,
+                "rank": len(documents) + 1,
+                "codons": codons[0].tolist(),
+                "placement": genes[0].tolist(),
+            },
         )
         key = json.dumps(document["elements"])
         if key not in seen:
@@ -95,8 +104,9 @@ class Experiment:
             spec = spec.with_evolution(elitism=spec.evolution.population - 1)
         return Experiment(replace(self.problem, spec=spec))
 
-    def run(self, *, out_dir: Path | None = None, force: bool = False,
-            reporter: Reporter | None = None) -> ExperimentResult:
+    def run(
+        self, *, out_dir: Path | None = None, force: bool = False, reporter: Reporter | None = None
+    ) -> ExperimentResult:
         """Run every run of the experiment; write ``out_dir`` if given (whole or not at all)."""
         problem, settings = self.problem, self.problem.spec.evolution
         reporter = reporter or QuietReporter()
@@ -104,7 +114,9 @@ class Experiment:
         results, bests = [], []
         for number, child in enumerate(children, start=1):
             reporter.start_run(number, settings.runs, settings.generations)
-            result = evolve(problem, settings, np.random.default_rng(child), on_generation=reporter.generation)
+            result = evolve(
+                problem, settings, np.random.default_rng(child), on_generation=reporter.generation
+            )
             reporter.end_run()
             results.append(result)
             origin = {"seed": settings.seed, "run": number, "generation": settings.generations}
@@ -118,11 +130,20 @@ class Experiment:
         """The resolved experiment: settings, seeds and software versions."""
         spec = self.problem.spec
         return {
-            "format": "mazegen-run", "version": 1, "scenario": spec.name, "source": spec.source,
+            "format": "mazegen-run",
+            "version": 1,
+            "scenario": spec.name,
+            "source": spec.source,
             "evolution": asdict(spec.evolution),
-            "run_seeds": [{"entropy": spec.evolution.seed, "spawn_key": [i]} for i in range(spec.evolution.runs)],
-            "versions": {"mazegen": __version__, "numpy": np.__version__, "numba": numba.__version__,
-                         "python": platform.python_version()},
+            "run_seeds": [
+                {"entropy": spec.evolution.seed, "spawn_key": [i]} for i in range(spec.evolution.runs)
+            ],
+            "versions": {
+                "mazegen": __version__,
+                "numpy": np.__version__,
+                "numba": numba.__version__,
+                "python": platform.python_version(),
+            },
         }
 
     def write(self, outcome: ExperimentResult, out_dir: Path, *, force: bool) -> None:
@@ -135,15 +156,21 @@ class Experiment:
                 elif source.is_file():
                     write_atomic(stage / "experiment" / name, source.read_bytes())
             write_atomic(stage / "experiment.json", json_text(self.record()))
-            rows = [(number, row) for number, result in enumerate(outcome.runs, start=1) for row in result.stats]
+            rows = [
+                (number, row) for number, result in enumerate(outcome.runs, start=1) for row in result.stats
+            ]
             write_atomic(stage / "stats.csv", stats_csv(rows))
             for number, (result, documents) in enumerate(zip(outcome.runs, outcome.best), start=1):
                 run_dir = stage / f"run-{number:02d}"
                 for rank, document in enumerate(documents, start=1):
                     write_atomic(run_dir / f"best-{rank:02d}.json", dumps(document))
                     write_atomic(run_dir / f"best-{rank:02d}.svg", scenario_svg(document))
-                write_atomic(run_dir / "population.npz", npz_bytes(
-                    {"codons": result.codons, "placement": result.genes, "fitness": result.fitness}))
+                write_atomic(
+                    run_dir / "population.npz",
+                    npz_bytes(
+                        {"codons": result.codons, "placement": result.genes, "fitness": result.fitness}
+                    ),
+                )
 
 
 def summary_lines(outcome: ExperimentResult) -> list[str]:
@@ -152,8 +179,10 @@ def summary_lines(outcome: ExperimentResult) -> list[str]:
     for number, documents in enumerate(outcome.best, start=1):
         if documents:
             top = documents[0]
-            lines.append(f"run {number}: best fitness {top['fitness']:g}, {len(top['elements'])} elements: "
-                         f"{top['phenotype']}")
+            lines.append(
+                f"run {number}: best fitness {top['fitness']:g}, {len(top['elements'])} elements: "
+                f"{top['phenotype']}"
+            )
         else:
             lines.append(f"run {number}: no valid scenario")
     return lines
@@ -172,7 +201,8 @@ def main(build_dir: Path, argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         experiment = Experiment.from_build_dir(build_dir).with_settings(
-            seed=args.seed, runs=args.runs, population=args.population, generations=args.generations)
+            seed=args.seed, runs=args.runs, population=args.population, generations=args.generations
+        )
         settings = experiment.problem.spec.evolution
         out = args.out or Path("runs") / f"{experiment.problem.spec.name}-seed{settings.seed}"
         reporter = QuietReporter() if args.quiet else RichReporter()

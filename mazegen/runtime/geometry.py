@@ -68,8 +68,9 @@ class ElementTable:
         return cls(n_parts, n_vertices, unit, offset, unit_radius, offset_radius)
 
 
-def overlapping_pairs(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
-                      params: np.ndarray) -> np.ndarray:
+def overlapping_pairs(
+    table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray, params: np.ndarray
+) -> np.ndarray:
     """Count, per individual, the element pairs whose interiors intersect.
 
     Two elements overlap when any part of one overlaps any part of the other
@@ -90,13 +91,30 @@ def overlapping_pairs(table: ElementTable, element_ids: np.ndarray, n_elements: 
     ids, n_el, prm = _population(table, element_ids, n_elements, params)
     out = np.zeros(ids.shape[0], np.int32)
     if ids.shape[0]:
-        _overlap_kernel(table.n_parts, table.n_vertices, table.unit, table.offset, table.unit_radius,
-                        table.offset_radius, ids, n_el, prm, _blocks(ids.shape[0]), out)
+        _overlap_kernel(
+            table.n_parts,
+            table.n_vertices,
+            table.unit,
+            table.offset,
+            table.unit_radius,
+            table.offset_radius,
+            ids,
+            n_el,
+            prm,
+            _blocks(ids.shape[0]),
+            out,
+        )
     return out
 
 
-def elements_outside(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
-                     params: np.ndarray, width: float, height: float) -> np.ndarray:
+def elements_outside(
+    table: ElementTable,
+    element_ids: np.ndarray,
+    n_elements: np.ndarray,
+    params: np.ndarray,
+    width: float,
+    height: float,
+) -> np.ndarray:
     """Count, per individual, the elements with a vertex outside ``[0, width] × [0, height]``.
 
     A vertex on the boundary is inside. Arguments are as for
@@ -108,14 +126,27 @@ def elements_outside(table: ElementTable, element_ids: np.ndarray, n_elements: n
     ids, n_el, prm = _population(table, element_ids, n_elements, params)
     out = np.zeros(ids.shape[0], np.int32)
     if ids.shape[0]:
-        _outside_kernel(table.n_parts, table.n_vertices, table.unit, table.offset, table.unit_radius,
-                        table.offset_radius, ids, n_el, prm, float(width), float(height),
-                        _blocks(ids.shape[0]), out)
+        _outside_kernel(
+            table.n_parts,
+            table.n_vertices,
+            table.unit,
+            table.offset,
+            table.unit_radius,
+            table.offset_radius,
+            ids,
+            n_el,
+            prm,
+            float(width),
+            float(height),
+            _blocks(ids.shape[0]),
+            out,
+        )
     return out
 
 
-def element_bounds(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
-                   params: np.ndarray) -> np.ndarray:
+def element_bounds(
+    table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray, params: np.ndarray
+) -> np.ndarray:
     """World bounding boxes of every element (arguments as for :func:`overlapping_pairs`).
 
     Returns:
@@ -124,8 +155,17 @@ def element_bounds(table: ElementTable, element_ids: np.ndarray, n_elements: np.
     ids, n_el, prm = _population(table, element_ids, n_elements, params)
     out = np.full((*ids.shape, 4), np.nan)
     if ids.shape[0]:
-        _bounds_kernel(table.n_parts, table.n_vertices, table.unit, table.offset,
-                       ids, n_el, prm, _blocks(ids.shape[0]), out)
+        _bounds_kernel(
+            table.n_parts,
+            table.n_vertices,
+            table.unit,
+            table.offset,
+            ids,
+            n_el,
+            prm,
+            _blocks(ids.shape[0]),
+            out,
+        )
     return out
 
 
@@ -145,20 +185,37 @@ def world_parts(table: ElementTable, element_id: int, param_row: Sequence[float]
     pbox = np.empty((1, n_p, 4))
     ebox = np.empty((1, 4))
     x, y, sx, sy, theta = (float(v) for v in param_row)
-    _world_element(table.n_parts, table.n_vertices, table.unit, table.offset,
-                   int(element_id), x, y, sx, sy, theta, wv, pbox, ebox, 0)
+    _world_element(
+        table.n_parts,
+        table.n_vertices,
+        table.unit,
+        table.offset,
+        int(element_id),
+        x,
+        y,
+        sx,
+        sy,
+        theta,
+        wv,
+        pbox,
+        ebox,
+        0,
+    )
     return [wv[0, p, : table.n_vertices[element_id, p]].copy() for p in range(table.n_parts[element_id])]
 
 
-def _population(table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray,
-                params: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _population(
+    table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray, params: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Check the population arrays and return them contiguous with the kernels' dtypes."""
     ids = np.ascontiguousarray(element_ids, np.int32)
     n_el = np.ascontiguousarray(n_elements, np.int32)
     prm = np.ascontiguousarray(params, np.float64)
     if ids.ndim != 2 or n_el.shape != ids.shape[:1] or prm.shape != (*ids.shape, 5):
-        raise ValueError(f"population arrays disagree: element_ids {ids.shape}, "
-                         f"n_elements {n_el.shape}, params {prm.shape}")
+        raise ValueError(
+            f"population arrays disagree: element_ids {ids.shape}, "
+            f"n_elements {n_el.shape}, params {prm.shape}"
+        )
     # The kernels index without bounds checks: a bad count or id would write out of bounds.
     if n_el.size and (n_el.min() < 0 or n_el.max() > ids.shape[1]):
         raise ValueError(f"n_elements must lie in [0, {ids.shape[1]}]")
@@ -190,12 +247,44 @@ def _sincos(x):
     y = float(j)
     z = ((x - y * _DP1) - y * _DP2) - y * _DP3
     zz = z * z
-    ps = z + z * zz * (((((1.58962301576546568060e-10 * zz - 2.50507477628578072866e-8) * zz
-                           + 2.75573136213857245213e-6) * zz - 1.98412698295895385996e-4) * zz
-                         + 8.33333333332211858878e-3) * zz - 1.66666666666666307295e-1)
-    pc = 1.0 - 0.5 * zz + zz * zz * (((((-1.13585365213876817300e-11 * zz + 2.08757008419747316778e-9) * zz
-                                        - 2.75573141792967388112e-7) * zz + 2.48015872888517045348e-5) * zz
-                                      - 1.38888888888730564116e-3) * zz + 4.16666666666665929218e-2)
+    ps = z + z * zz * (
+        (
+            (
+                (
+                    (1.58962301576546568060e-10 * zz - 2.50507477628578072866e-8) * zz
+                    + 2.75573136213857245213e-6
+                )
+                * zz
+                - 1.98412698295895385996e-4
+            )
+            * zz
+            + 8.33333333332211858878e-3
+        )
+        * zz
+        - 1.66666666666666307295e-1
+    )
+    pc = (
+        1.0
+        - 0.5 * zz
+        + zz
+        * zz
+        * (
+            (
+                (
+                    (
+                        (-1.13585365213876817300e-11 * zz + 2.08757008419747316778e-9) * zz
+                        - 2.75573141792967388112e-7
+                    )
+                    * zz
+                    + 2.48015872888517045348e-5
+                )
+                * zz
+                - 1.38888888888730564116e-3
+            )
+            * zz
+            + 4.16666666666665929218e-2
+        )
+    )
     # Octants 0, 2, 4, 6 by arithmetic rather than branches (theta is random).
     swap = (j >> 1) & 1
     s = (pc if swap else ps) * sign * (1 - 2 * ((j >> 2) & 1))
@@ -258,8 +347,9 @@ def _boxes_meet(box, a, b):
     Non-short-circuit ``&``: random boxes make the branches of ``and``
     unpredictable, which cost more than the comparisons.
     """
-    return ((box[a, 0] < box[b, 2]) & (box[b, 0] < box[a, 2])
-            & (box[a, 1] < box[b, 3]) & (box[b, 1] < box[a, 3]))
+    return (
+        (box[a, 0] < box[b, 2]) & (box[b, 0] < box[a, 2]) & (box[a, 1] < box[b, 3]) & (box[b, 1] < box[a, 3])
+    )
 
 
 @njit(cache=True, inline="always")
@@ -291,8 +381,12 @@ def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox):
     """True if some part of element ``a`` (type ``ea``) overlaps some part of ``b`` (type ``eb``)."""
     for pa in range(n_parts[ea]):
         for pb in range(n_parts[eb]):
-            if not ((pbox[a, pa, 0] < pbox[b, pb, 2]) & (pbox[b, pb, 0] < pbox[a, pa, 2])
-                    & (pbox[a, pa, 1] < pbox[b, pb, 3]) & (pbox[b, pb, 1] < pbox[a, pa, 3])):
+            if not (
+                (pbox[a, pa, 0] < pbox[b, pb, 2])
+                & (pbox[b, pb, 0] < pbox[a, pa, 2])
+                & (pbox[a, pa, 1] < pbox[b, pb, 3])
+                & (pbox[b, pb, 1] < pbox[a, pa, 3])
+            ):
                 continue
             na = n_vertices[ea, pa]
             nb = n_vertices[eb, pb]
@@ -302,8 +396,9 @@ def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox):
 
 
 @njit(parallel=True, cache=True)
-def _overlap_kernel(n_parts, n_vertices, unit, offset, unit_radius, offset_radius, ids, n_el, params,
-                    n_blocks, out):
+def _overlap_kernel(
+    n_parts, n_vertices, unit, offset, unit_radius, offset_radius, ids, n_el, params, n_blocks, out
+):
     n, k_max = ids.shape
     for block in prange(n_blocks):
         wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
@@ -334,9 +429,22 @@ def _overlap_kernel(n_parts, n_vertices, unit, offset, unit_radius, offset_radiu
                 for side in range(2):
                     k = pairs[q, side]
                     if not placed[k]:
-                        _world_element(n_parts, n_vertices, unit, offset, ids[i, k], params[i, k, 0],
-                                       params[i, k, 1], params[i, k, 2], params[i, k, 3], params[i, k, 4],
-                                       wv, pbox, ebox, k)
+                        _world_element(
+                            n_parts,
+                            n_vertices,
+                            unit,
+                            offset,
+                            ids[i, k],
+                            params[i, k, 0],
+                            params[i, k, 1],
+                            params[i, k, 2],
+                            params[i, k, 3],
+                            params[i, k, 4],
+                            wv,
+                            pbox,
+                            ebox,
+                            k,
+                        )
                         placed[k] = True
                 a = pairs[q, 0]
                 b = pairs[q, 1]
@@ -353,14 +461,40 @@ def _bounds_kernel(n_parts, n_vertices, unit, offset, ids, n_el, params, n_block
         pbox = np.empty((k_max, unit.shape[1], 4))
         for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
             for k in range(n_el[i]):
-                _world_element(n_parts, n_vertices, unit, offset, ids[i, k], params[i, k, 0],
-                               params[i, k, 1], params[i, k, 2], params[i, k, 3], params[i, k, 4],
-                               wv, pbox, out[i], k)
+                _world_element(
+                    n_parts,
+                    n_vertices,
+                    unit,
+                    offset,
+                    ids[i, k],
+                    params[i, k, 0],
+                    params[i, k, 1],
+                    params[i, k, 2],
+                    params[i, k, 3],
+                    params[i, k, 4],
+                    wv,
+                    pbox,
+                    out[i],
+                    k,
+                )
 
 
 @njit(parallel=True, cache=True)
-def _outside_kernel(n_parts, n_vertices, unit, offset, unit_radius, offset_radius, ids, n_el, params,
-                    width, height, n_blocks, out):
+def _outside_kernel(
+    n_parts,
+    n_vertices,
+    unit,
+    offset,
+    unit_radius,
+    offset_radius,
+    ids,
+    n_el,
+    params,
+    width,
+    height,
+    n_blocks,
+    out,
+):
     n = ids.shape[0]
     for block in prange(n_blocks):
         wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
@@ -374,8 +508,23 @@ def _outside_kernel(n_parts, n_vertices, unit, offset, unit_radius, offset_radiu
                 r = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
                 if x - r >= 0.0 and y - r >= 0.0 and x + r <= width and y + r <= height:
                     continue  # the bounding circle is inside: no need to transform
-                _world_element(n_parts, n_vertices, unit, offset, ids[i, k], x, y,
-                               params[i, k, 2], params[i, k, 3], params[i, k, 4], wv, pbox, ebox, 0)
-                count += ((ebox[0, 0] < 0.0) | (ebox[0, 1] < 0.0)
-                          | (ebox[0, 2] > width) | (ebox[0, 3] > height))
+                _world_element(
+                    n_parts,
+                    n_vertices,
+                    unit,
+                    offset,
+                    ids[i, k],
+                    x,
+                    y,
+                    params[i, k, 2],
+                    params[i, k, 3],
+                    params[i, k, 4],
+                    wv,
+                    pbox,
+                    ebox,
+                    0,
+                )
+                count += (
+                    (ebox[0, 0] < 0.0) | (ebox[0, 1] < 0.0) | (ebox[0, 2] > width) | (ebox[0, 3] > height)
+                )
             out[i] = count

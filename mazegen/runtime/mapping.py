@@ -128,8 +128,9 @@ def _codon_limit(n: int, wraps: int, consume: str) -> int:
     return n * (wraps + 1)
 
 
-def map_genome(grammar: Grammar, genome: Sequence[int], *, wraps: int = 0, consume: str = "eager",
-               max_depth: int = 90) -> MapResult:
+def map_genome(
+    grammar: Grammar, genome: Sequence[int], *, wraps: int = 0, consume: str = "eager", max_depth: int = 90
+) -> MapResult:
     """Map one genome with the pure-Python reference mapper.
 
     Args:
@@ -227,8 +228,10 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
     rule_alts, alt_symbols, alt_nts, symbols = [0], [0], [], []
     for alternatives in grammar.rules.values():
         for alternative in alternatives:
-            symbols += [rule_ids[s.text] if s.nonterminal else ~terminals.setdefault(s.text, len(terminals))
-                        for s in alternative]
+            symbols += [
+                rule_ids[s.text] if s.nonterminal else ~terminals.setdefault(s.text, len(terminals))
+                for s in alternative
+            ]
             alt_symbols.append(len(symbols))
             alt_nts.append(sum(s.nonterminal for s in alternative))
         rule_alts.append(len(alt_symbols) - 1)
@@ -251,16 +254,30 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
         trie_element[node] = element
     i32 = np.int32
     return CompiledGrammar(
-        element_names=tuple(element_names), start=rule_ids[grammar.start],
+        element_names=tuple(element_names),
+        start=rule_ids[grammar.start],
         max_alt_len=max(len(a) for alts in grammar.rules.values() for a in alts),
-        rule_alts=np.array(rule_alts, i32), alt_symbols=np.array(alt_symbols, i32),
-        alt_nonterminals=np.array(alt_nts, i32), symbols=np.array(symbols, i32),
-        term_chars=np.array(term_chars, i32), chars=np.array(chars, np.uint8),
-        trie=np.array(trie, i32), trie_element=np.array(trie_element, i32))
+        rule_alts=np.array(rule_alts, i32),
+        alt_symbols=np.array(alt_symbols, i32),
+        alt_nonterminals=np.array(alt_nts, i32),
+        symbols=np.array(symbols, i32),
+        term_chars=np.array(term_chars, i32),
+        chars=np.array(chars, np.uint8),
+        trie=np.array(trie, i32),
+        trie_element=np.array(trie_element, i32),
+    )
 
 
-def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int = 0, consume: str = "eager",
-                   max_elements: int, max_depth: int = 90, out: PopulationMap | None = None) -> PopulationMap:
+def map_population(
+    compiled: CompiledGrammar,
+    codons: np.ndarray,
+    *,
+    wraps: int = 0,
+    consume: str = "eager",
+    max_elements: int,
+    max_depth: int = 90,
+    out: PopulationMap | None = None,
+) -> PopulationMap:
     """Map every row of ``codons`` and extract its elements, in parallel.
 
     Validity and ``used_codons`` equal :func:`map_genome` with the same options
@@ -286,18 +303,41 @@ def map_population(compiled: CompiledGrammar, codons: np.ndarray, *, wraps: int 
     if codons.ndim != 2 or codons.dtype.kind not in "iu" or max_elements < 0:
         raise ValueError("codons must be a 2-D integer array and max_elements >= 0")
     n = codons.shape[0]
-    layout = [((n,), np.bool_), ((n,), np.int32), ((n,), np.int32), ((n, max_elements), np.int32),
-              ((n, max_elements, NUMBERS_PER_ELEMENT), np.float64)]
+    layout = [
+        ((n,), np.bool_),
+        ((n,), np.int32),
+        ((n,), np.int32),
+        ((n, max_elements), np.int32),
+        ((n, max_elements, NUMBERS_PER_ELEMENT), np.float64),
+    ]
     result = out or PopulationMap(*(np.empty(shape, dtype) for shape, dtype in layout))
     arrays = (result.valid, result.used_codons, result.n_elements, result.element_ids, result.numbers)
-    if any(a.shape != shape or a.dtype != dtype or not a.flags.c_contiguous
-           for a, (shape, dtype) in zip(arrays, layout)):
+    if any(
+        a.shape != shape or a.dtype != dtype or not a.flags.c_contiguous
+        for a, (shape, dtype) in zip(arrays, layout)
+    ):
         raise ValueError("out does not fit this population and max_elements")
     c = compiled
-    grammar = (c.start, c.rule_alts, c.alt_symbols, c.alt_nonterminals, c.symbols, c.term_chars, c.chars,
-               c.trie, c.trie_element, _CLASSES)
-    options = (min(n, 8 * get_num_threads()), (max_depth + 3) * c.max_alt_len + 1, consume == "lazy",
-               consume == "eager" and wraps == 0, _codon_limit(codons.shape[1], wraps, consume), max_depth)
+    grammar = (
+        c.start,
+        c.rule_alts,
+        c.alt_symbols,
+        c.alt_nonterminals,
+        c.symbols,
+        c.term_chars,
+        c.chars,
+        c.trie,
+        c.trie_element,
+        _CLASSES,
+    )
+    options = (
+        min(n, 8 * get_num_threads()),
+        (max_depth + 3) * c.max_alt_len + 1,
+        consume == "lazy",
+        consume == "eager" and wraps == 0,
+        _codon_limit(codons.shape[1], wraps, consume),
+        max_depth,
+    )
     _map_all(codons, grammar, options, arrays)
     return result
 

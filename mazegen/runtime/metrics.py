@@ -19,7 +19,9 @@ def element_count(pop: Population) -> np.ndarray:
 
 def overlapping_pairs(pop: Population) -> np.ndarray:
     """Pairs of elements whose interiors intersect (paper eq. 2's N_overlapped)."""
-    return geometry.overlapping_pairs(pop.table, pop.element_ids, pop.n_elements, pop.params).astype(np.float64)
+    return geometry.overlapping_pairs(pop.table, pop.element_ids, pop.n_elements, pop.params).astype(
+        np.float64
+    )
 
 
 def element_sizes(pop: Population) -> np.ndarray:
@@ -36,5 +38,6 @@ def elements_over_size(pop: Population, limit: float) -> np.ndarray:
 def elements_outside(pop: Population) -> np.ndarray:
     """Elements not wholly inside the arena."""
     arena = pop.arena
-    return geometry.elements_outside(pop.table, pop.element_ids, pop.n_elements, pop.params,
-                                     arena.width, arena.height).astype(np.float64)
+    return geometry.elements_outside(
+        pop.table, pop.element_ids, pop.n_elements, pop.params, arena.width, arena.height
+    ).astype(np.float64)

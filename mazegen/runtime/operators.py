@@ -26,8 +26,9 @@ def ranking(fitness: np.ndarray) -> np.ndarray:
     return np.argsort(-fitness, kind="stable")
 
 
-def truncation_parents(rng: np.random.Generator, fitness: np.ndarray, fraction: float,
-                       count: int) -> np.ndarray:
+def truncation_parents(
+    rng: np.random.Generator, fitness: np.ndarray, fraction: float, count: int
+) -> np.ndarray:
     """Parents drawn uniformly from the best ``fraction`` of the population (the paper's selection)."""
     keep = max(1, int(np.ceil(fraction * fitness.shape[0])))
     return ranking(fitness)[:keep][rng.integers(0, keep, size=count)]
@@ -43,8 +44,9 @@ def tournament_parents(rng: np.random.Generator, fitness: np.ndarray, size: int,
     return entrants[np.arange(count), best]
 
 
-def one_point_crossover(rng: np.random.Generator, codons: np.ndarray, genes: np.ndarray,
-                        rate: float) -> tuple[np.ndarray, np.ndarray]:
+def one_point_crossover(
+    rng: np.random.Generator, codons: np.ndarray, genes: np.ndarray, rate: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Cross consecutive pairs of parents at one point per chromosome.
 
     Row ``2i`` and ``2i+1`` are a pair; with probability ``rate`` they swap their
@@ -85,8 +87,9 @@ def hit_positions(rng: np.random.Generator, total: int, rate: float) -> np.ndarr
     return positions[positions < total]
 
 
-def int_flip_mutation(rng: np.random.Generator, codons: np.ndarray, genes: np.ndarray, rate: float,
-                      codon_max: int) -> tuple[np.ndarray, np.ndarray]:
+def int_flip_mutation(
+    rng: np.random.Generator, codons: np.ndarray, genes: np.ndarray, rate: float, codon_max: int
+) -> tuple[np.ndarray, np.ndarray]:
     """Replace each codon and each placement gene by a random value with probability ``rate``."""
     new_codons, new_genes = codons.copy(), genes.copy()
     for array, high in ((new_codons, codon_max), (new_genes, GENE_MAX)):

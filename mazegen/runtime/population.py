@@ -59,14 +59,14 @@ class Population:
 class Ranges:
     """Per element type ranges, as arrays indexed by element id."""
 
-    size: np.ndarray        # float64[E, 2]
-    depth: np.ndarray       # float64[E, 2] (rect) or the size range again
-    uniform: np.ndarray     # bool[E]
-    aspect: np.ndarray      # float64[E]: depth / width at mid ranges (grammar placement of rects)
-    rot_lo: np.ndarray      # float64[E] degrees (continuous)
+    size: np.ndarray  # float64[E, 2]
+    depth: np.ndarray  # float64[E, 2] (rect) or the size range again
+    uniform: np.ndarray  # bool[E]
+    aspect: np.ndarray  # float64[E]: depth / width at mid ranges (grammar placement of rects)
+    rot_lo: np.ndarray  # float64[E] degrees (continuous)
     rot_hi: np.ndarray
-    rot_free: np.ndarray    # bool[E] continuous rotation
-    rotations: np.ndarray   # float64[E, R] discrete angles, padded by repetition
+    rot_free: np.ndarray  # bool[E] continuous rotation
+    rotations: np.ndarray  # float64[E, R] discrete angles, padded by repetition
     n_rotations: np.ndarray  # int32[E]
 
     @classmethod
@@ -74,8 +74,10 @@ class Ranges:
         """Gather the ranges of the scenario's element types."""
         types = spec.scenario_elements
         width = max(len(t.rotations) for t in types)
-        rotations = np.array([list(t.rotations) + [t.rotations[0]] * (width - len(t.rotations))
-                              for t in types], dtype=np.float64)
+        rotations = np.array(
+            [list(t.rotations) + [t.rotations[0]] * (width - len(t.rotations)) for t in types],
+            dtype=np.float64,
+        )
         size = np.array([t.size for t in types], dtype=np.float64)
         depth = np.array([t.size2 or t.size for t in types], dtype=np.float64)
         return cls(
@@ -92,8 +94,25 @@ class Ranges:
 
 
 @njit(cache=True, parallel=True)
-def _placement_kernel(ids, n_elements, genes, numbers, size, depth, uniform, aspect, rot_lo, rot_hi,
-                      rot_free, rotations, n_rotations, width, height, grammar_scale, out):  # pragma: no cover
+def _placement_kernel(
+    ids,
+    n_elements,
+    genes,
+    numbers,
+    size,
+    depth,
+    uniform,
+    aspect,
+    rot_lo,
+    rot_hi,
+    rot_free,
+    rotations,
+    n_rotations,
+    width,
+    height,
+    grammar_scale,
+    out,
+):  # pragma: no cover
     for i in prange(ids.shape[0]):
         for k in range(n_elements[i]):
             e = ids[i, k]
@@ -124,8 +143,9 @@ def _placement_kernel(ids, n_elements, genes, numbers, size, depth, uniform, asp
             out[i, k, 4] = np.radians(angle)
 
 
-def placement_params(mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, arena: Arena,
-                     grammar_scale: float | None) -> np.ndarray:
+def placement_params(
+    mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, arena: Arena, grammar_scale: float | None
+) -> np.ndarray:
     """Element parameters from placement genes, or from grammar numbers where present.
 
     Slots past an individual's element count are zero.
@@ -137,17 +157,35 @@ def placement_params(mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, a
         arena: Arena (positions span it).
         grammar_scale: Multiplier of grammar size numbers, or ``None`` for gene placement.
     """
-    params = np.zeros(mapped.element_ids.shape + (PLACEMENT_GENES,), dtype=np.float64)
-    _placement_kernel(mapped.element_ids, mapped.n_elements, genes, mapped.numbers, ranges.size, ranges.depth,
-                      ranges.uniform, ranges.aspect, ranges.rot_lo, ranges.rot_hi, ranges.rot_free,
-                      ranges.rotations, ranges.n_rotations, float(arena.width), float(arena.height),
-                      -1.0 if grammar_scale is None else float(grammar_scale), params)
+    params = np.zeros((*mapped.element_ids.shape, PLACEMENT_GENES), dtype=np.float64)
+    _placement_kernel(
+        mapped.element_ids,
+        mapped.n_elements,
+        genes,
+        mapped.numbers,
+        ranges.size,
+        ranges.depth,
+        ranges.uniform,
+        ranges.aspect,
+        ranges.rot_lo,
+        ranges.rot_hi,
+        ranges.rot_free,
+        ranges.rotations,
+        ranges.n_rotations,
+        float(arena.width),
+        float(arena.height),
+        -1.0 if grammar_scale is None else float(grammar_scale),
+        params,
+    )
     return params
 
 
-def decode(mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, table: ElementTable, spec: Spec) -> Population:
+def decode(
+    mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, table: ElementTable, spec: Spec
+) -> Population:
     """Turn mapped structure codons plus placement genes into a :class:`Population`."""
     placement = spec.scenario.placement
-    params = placement_params(mapped, genes, ranges, spec.arena,
-                              None if placement is None else placement.scale)
+    params = placement_params(
+        mapped, genes, ranges, spec.arena, None if placement is None else placement.scale
+    )
     return Population(mapped.element_ids, mapped.n_elements, params, mapped.valid, table, spec.arena)

@@ -40,8 +40,12 @@ def _load_fitness(path: Path) -> ModuleType:
     try:
         loader_spec.loader.exec_module(module)
     except SyntaxError as error:
-        raise MazeError(f"fitness module does not compile: {error.msg}", filename=str(path),
-                        line=error.lineno, col=error.offset) from None
+        raise MazeError(
+            f"fitness module does not compile: {error.msg}",
+            filename=str(path),
+            line=error.lineno,
+            col=error.offset,
+        ) from None
     for name in ("terms", "rejected"):
         if not callable(getattr(module, name, None)):
             raise MazeError(f"fitness module must define {name}(pop)", filename=str(path))
@@ -88,8 +92,9 @@ class Problem:
     def decode(self, codons: np.ndarray, genes: np.ndarray) -> tuple[PopulationMap, Population]:
         """Map structure codons and decode placements."""
         evolution = self.spec.evolution
-        mapped = map_population(self.compiled, codons, wraps=evolution.wraps, consume=evolution.consume,
-                                max_elements=self.slots)
+        mapped = map_population(
+            self.compiled, codons, wraps=evolution.wraps, consume=evolution.consume, max_elements=self.slots
+        )
         return mapped, decode(mapped, genes, self.ranges, self.table, self.spec)
 
     def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:

@@ -121,9 +121,13 @@ def _parse(doc: dict) -> _Scene:
             elements.append(_Element(_label(element["type"], 40), _colour(element.get("colour")), parts))
         fitness = doc.get("fitness")
         return _Scene(
-            name=_label(doc.get("scenario", "scenario")), width=width, height=height,
-            unit=_label(arena.get("unit", ""), 12), start=_point(arena["start"]),
-            goal=_point(arena["goal"]), radius=max(0.0, _number(arena.get("robot_radius", 0.0))),
+            name=_label(doc.get("scenario", "scenario")),
+            width=width,
+            height=height,
+            unit=_label(arena.get("unit", ""), 12),
+            start=_point(arena["start"]),
+            goal=_point(arena["goal"]),
+            radius=max(0.0, _number(arena.get("robot_radius", 0.0))),
             elements=tuple(elements),
             fitness=f"{fitness:.4g}" if isinstance(fitness, (int, float)) else "n/a",
         )
@@ -167,8 +171,17 @@ def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
         _Shape("rect", (at((0, scene.height)), at((scene.width, 0))), _WHITE, _INK, width=2 * u),
     ]
     for element in scene.elements:
-        shapes += [_Shape("polygon", tuple(at(p) for p in part), element.colour, _darker(element.colour),
-                          _FILL_OPACITY, width=u) for part in element.parts]
+        shapes += [
+            _Shape(
+                "polygon",
+                tuple(at(p) for p in part),
+                element.colour,
+                _darker(element.colour),
+                _FILL_OPACITY,
+                width=u,
+            )
+            for part in element.parts
+        ]
     radius = max(3.0, k * scene.radius)
     for point, colour in ((scene.start, _START), (scene.goal, _GOAL)):
         shapes.append(_Shape("circle", (at(point),), colour, _darker(colour), 0.85, 1.5 * u, radius))
@@ -188,13 +201,14 @@ def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
     for i, (swatch, text, colour) in enumerate(entries):
         y = title_h + i * row
         if swatch == "rect":
-            shapes.append(_Shape("rect", ((lx, y), (lx + font, y + font)), colour, _darker(colour),
-                                 _FILL_OPACITY, u))
+            shapes.append(
+                _Shape("rect", ((lx, y), (lx + font, y + font)), colour, _darker(colour), _FILL_OPACITY, u)
+            )
         elif swatch == "circle":
-            shapes.append(_Shape("circle", ((lx + font / 2, y + font / 2),), colour, _darker(colour),
-                                 0.85, u, font / 2))
-        shapes.append(_Shape("text", ((lx + 1.6 * font, y + 0.85 * font),), fill=_INK, width=font,
-                             text=text))
+            shapes.append(
+                _Shape("circle", ((lx + font / 2, y + font / 2),), colour, _darker(colour), 0.85, u, font / 2)
+            )
+        shapes.append(_Shape("text", ((lx + 1.6 * font, y + 0.85 * font),), fill=_INK, width=font, text=text))
 
     # Scale bar under the arena.
     length = _nice_length(scene.width / 4)
@@ -204,8 +218,13 @@ def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
         _Shape("line", ((x0, y0), (x1, y0)), stroke=_INK, width=2 * u),
         _Shape("line", ((x0, y0 - tick), (x0, y0 + tick)), stroke=_INK, width=2 * u),
         _Shape("line", ((x1, y0 - tick), (x1, y0 + tick)), stroke=_INK, width=2 * u),
-        _Shape("text", ((x1 + 0.6 * font, y0 + 0.35 * font),), fill=_INK, width=font,
-               text=f"{_length_text(length)} {scene.unit}".rstrip()),
+        _Shape(
+            "text",
+            ((x1 + 0.6 * font, y0 + 0.35 * font),),
+            fill=_INK,
+            width=font,
+            text=f"{_length_text(length)} {scene.unit}".rstrip(),
+        ),
     ]
     return width, height, shapes
 
@@ -242,20 +261,23 @@ def _paint(shape: _Shape) -> str:
 def _svg_element(shape: _Shape) -> str:
     if shape.kind == "rect":
         (x0, y0), (x1, y1) = shape.points
-        return (f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(x1 - x0)}" height="{_f(y1 - y0)}" '
-                f"{_paint(shape)}/>")
+        return (
+            f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(x1 - x0)}" height="{_f(y1 - y0)}" {_paint(shape)}/>'
+        )
     if shape.kind == "polygon":
         points = " ".join(f"{_f(x)},{_f(y)}" for x, y in shape.points)
         return f'<polygon points="{points}" {_paint(shape)} stroke-linejoin="round"/>'
     if shape.kind == "circle":
-        (x, y), = shape.points
+        ((x, y),) = shape.points
         return f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(shape.radius)}" {_paint(shape)}/>'
     if shape.kind == "line":
         (x0, y0), (x1, y1) = shape.points
         return f'<line x1="{_f(x0)}" y1="{_f(y0)}" x2="{_f(x1)}" y2="{_f(y1)}" {_paint(shape)}/>'
-    (x, y), = shape.points
-    return (f'<text x="{_f(x)}" y="{_f(y)}" font-size="{_f(shape.width)}" fill="{_hex(shape.fill or _INK)}">'
-            f"{escape(shape.text)}</text>")
+    ((x, y),) = shape.points
+    return (
+        f'<text x="{_f(x)}" y="{_f(y)}" font-size="{_f(shape.width)}" fill="{_hex(shape.fill or _INK)}">'
+        f"{escape(shape.text)}</text>"
+    )
 
 
 def scenario_svg(doc: dict, *, pixels: int = 800) -> str:

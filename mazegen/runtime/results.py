@@ -19,7 +19,7 @@ import numpy as np
 from mazegen.errors import MazeError
 from mazegen.runtime.evolution import GenerationStats
 
-STATS_COLUMNS = ("run",) + tuple(f.name for f in fields(GenerationStats))
+STATS_COLUMNS = ("run", *tuple(f.name for f in fields(GenerationStats)))
 
 
 def _cell(value: Any) -> str:
@@ -63,8 +63,11 @@ def staged_directory(target: Path, *, force: bool) -> Iterator[Path]:
     An interrupted or failed run leaves ``target`` as it was.
     """
     if target.exists() and any(target.iterdir()) and not force:
-        raise MazeError("run directory already exists and is not empty (use --force to replace it, "
-                        "or -o to choose another)", filename=str(target))
+        raise MazeError(
+            "run directory already exists and is not empty (use --force to replace it, "
+            "or -o to choose another)",
+            filename=str(target),
+        )
     target.parent.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
     try:

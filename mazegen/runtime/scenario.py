@@ -16,7 +16,7 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.runtime.geometry import world_parts
-from mazegen.runtime.population import PLACEMENT_GENES, SX, SY, THETA, X, Y, Population
+from mazegen.runtime.population import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.spec import Spec
 
 FORMAT = "mazegen-scenario"
@@ -30,8 +30,15 @@ def _round(value: float) -> float:
 
 def _arena(spec: Spec) -> dict[str, Any]:
     a = spec.arena
-    return {"name": a.name, "width": a.width, "height": a.height, "unit": a.unit,
-            "start": list(a.start), "goal": list(a.goal), "robot_radius": a.robot_radius}
+    return {
+        "name": a.name,
+        "width": a.width,
+        "height": a.height,
+        "unit": a.unit,
+        "start": list(a.start),
+        "goal": list(a.goal),
+        "robot_radius": a.robot_radius,
+    }
 
 
 def element_documents(spec: Spec, population: Population, index: int) -> list[dict[str, Any]]:
@@ -41,21 +48,37 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
     for slot in range(int(population.n_elements[index])):
         kind = types[int(population.element_ids[index, slot])]
         p = population.params[index, slot]
-        item: dict[str, Any] = {"type": kind.name, "class": kind.semantic_class, "colour": kind.colour,
-                                "height": kind.height, "x": _round(p[X]), "y": _round(p[Y]),
-                                "rotation": _round(math.degrees(p[THETA]) % 360.0)}
+        item: dict[str, Any] = {
+            "type": kind.name,
+            "class": kind.semantic_class,
+            "colour": kind.colour,
+            "height": kind.height,
+            "x": _round(p[X]),
+            "y": _round(p[Y]),
+            "rotation": _round(math.degrees(p[THETA]) % 360.0),
+        }
         if kind.uniform:
             item["size"] = _round(p[SX])
         else:
             item["width"], item["depth"] = _round(p[SX]), _round(p[SY])
-        item["parts"] = [[[_round(x), _round(y)] for x, y in part]
-                         for part in world_parts(population.table, int(population.element_ids[index, slot]), p)]
+        item["parts"] = [
+            [[_round(x), _round(y)] for x, y in part]
+            for part in world_parts(population.table, int(population.element_ids[index, slot]), p)
+        ]
         out.append(item)
     return out
 
 
-def scenario_document(spec: Spec, population: Population, index: int, *, phenotype: str | None,
-                      fitness: float, terms: dict[str, float], origin: dict[str, Any]) -> dict[str, Any]:
+def scenario_document(
+    spec: Spec,
+    population: Population,
+    index: int,
+    *,
+    phenotype: str | None,
+    fitness: float,
+    terms: dict[str, float],
+    origin: dict[str, Any],
+) -> dict[str, Any]:
     """A whole scenario document for individual ``index`` of ``population``."""
     return {
         "format": FORMAT,
@@ -88,13 +111,16 @@ def read_document(text: str, filename: str) -> dict[str, Any]:
     try:
         document = json.loads(text)
     except json.JSONDecodeError as error:
-        raise MazeError(f"not valid JSON: {error.msg}", filename=filename, line=error.lineno,
-                        col=error.colno) from None
+        raise MazeError(
+            f"not valid JSON: {error.msg}", filename=filename, line=error.lineno, col=error.colno
+        ) from None
     if not isinstance(document, dict) or document.get("format") != FORMAT:
-        raise MazeError(f"not a scenario file (expected \"format\": \"{FORMAT}\")", filename=filename)
+        raise MazeError(f'not a scenario file (expected "format": "{FORMAT}")', filename=filename)
     if document.get("version") != VERSION:
-        raise MazeError(f"unsupported scenario version {document.get('version')!r} (this MazeGen reads "
-                        f"{VERSION})", filename=filename)
+        raise MazeError(
+            f"unsupported scenario version {document.get('version')!r} (this MazeGen reads {VERSION})",
+            filename=filename,
+        )
     if not isinstance(document.get("elements"), list):
         raise MazeError("'elements' must be a list", filename=filename)
     return document
@@ -111,8 +137,9 @@ def population_from_document(spec: Spec, table: Any, document: dict[str, Any], f
         where = f"{filename}: element {slot + 1}"
         if not isinstance(item, dict) or item.get("type") not in names:
             kind = item.get("type") if isinstance(item, dict) else item
-            raise MazeError(f"{where}: type {kind!r} is not an element of scenario '{spec.name}' "
-                            f"({', '.join(names)})")
+            raise MazeError(
+                f"{where}: type {kind!r} is not an element of scenario '{spec.name}' ({', '.join(names)})"
+            )
         kind = spec.element(item["type"])
         ids[0, slot] = names.index(kind.name)
         if kind.uniform:
@@ -120,16 +147,35 @@ def population_from_document(spec: Spec, table: Any, document: dict[str, Any], f
         else:
             sx, sy = _number(item, "width", where), _number(item, "depth", where)
         rotation = _number(item, "rotation", where) if "rotation" in item else 0.0
-        params[0, slot] = (_number(item, "x", where), _number(item, "y", where), sx, sy, math.radians(rotation))
-    return Population(ids, np.array([len(elements)], dtype=np.int32), params, np.array([True]), table, spec.arena)
+        params[0, slot] = (
+            _number(item, "x", where),
+            _number(item, "y", where),
+            sx,
+            sy,
+            math.radians(rotation),
+        )
+    return Population(
+        ids, np.array([len(elements)], dtype=np.int32), params, np.array([True]), table, spec.arena
+    )
 
 
 def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> dict[str, Any]:
     """A document with the spec's arena and every element's parts recomputed (hand-written floors)."""
     from mazegen.runtime.geometry import ElementTable
 
-    population = population_from_document(spec, ElementTable.from_types(spec.scenario_elements), document,
-                                          filename)
-    return {"format": FORMAT, "version": VERSION, "scenario": spec.name, "phenotype": None, "fitness": None,
-            "terms": {}, "valid": True, "origin": {}, **document, "arena": _arena(spec),
-            "elements": element_documents(spec, population, 0)}
+    population = population_from_document(
+        spec, ElementTable.from_types(spec.scenario_elements), document, filename
+    )
+    return {
+        "format": FORMAT,
+        "version": VERSION,
+        "scenario": spec.name,
+        "phenotype": None,
+        "fitness": None,
+        "terms": {},
+        "valid": True,
+        "origin": {},
+        **document,
+        "arena": _arena(spec),
+        "elements": element_documents(spec, population, 0),
+    }

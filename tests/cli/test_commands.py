@@ -23,7 +23,10 @@ def invoke(*args: str):
 def test_check_prints_ok_per_file():
     result = invoke("check", str(EXAMPLES / "factory.maze"), str(EXAMPLES / "mazegen1.maze"))
     assert result.exit_code == 0
-    assert result.output.splitlines() == [f"{EXAMPLES / 'factory.maze'}: OK", f"{EXAMPLES / 'mazegen1.maze'}: OK"]
+    assert result.output.splitlines() == [
+        f"{EXAMPLES / 'factory.maze'}: OK",
+        f"{EXAMPLES / 'mazegen1.maze'}: OK",
+    ]
 
 
 def test_check_reports_located_error_without_traceback(write_spec):
@@ -65,8 +68,20 @@ def test_map_rejects_a_bad_genome_line(tmp_path):
 
 
 def run_small(out: Path, *extra: str):
-    return invoke("run", str(EXAMPLES / "factory.maze"), "--population", "60", "--generations", "3",
-                  "--runs", "2", "-q", "-o", str(out), *extra)
+    return invoke(
+        "run",
+        str(EXAMPLES / "factory.maze"),
+        "--population",
+        "60",
+        "--generations",
+        "3",
+        "--runs",
+        "2",
+        "-q",
+        "-o",
+        str(out),
+        *extra,
+    )
 
 
 def test_run_writes_a_complete_run_directory(tmp_path):
@@ -83,7 +98,9 @@ def test_run_writes_a_complete_run_directory(tmp_path):
     for run in ("run-01", "run-02"):
         document = json.loads((out / run / "best-01.json").read_text())
         assert document["format"] == "mazegen-scenario"
-        assert (out / run / "best-01.svg").read_text().startswith("<svg") or "<svg" in (out / run / "best-01.svg").read_text()
+        assert (out / run / "best-01.svg").read_text().startswith("<svg") or "<svg" in (
+            out / run / "best-01.svg"
+        ).read_text()
         assert (out / run / "population.npz").is_file()
 
 
@@ -98,7 +115,9 @@ def test_run_refuses_to_overwrite_and_keeps_old_results(tmp_path):
 
 
 def test_run_rejects_population_zero(tmp_path):
-    result = invoke("run", str(EXAMPLES / "factory.maze"), "--population", "0", "-q", "-o", str(tmp_path / "r"))
+    result = invoke(
+        "run", str(EXAMPLES / "factory.maze"), "--population", "0", "-q", "-o", str(tmp_path / "r")
+    )
     assert result.exit_code == 1
     assert result.stderr.strip() == "--population must be at least 1, got 0"
     assert not (tmp_path / "r").exists()
@@ -106,7 +125,8 @@ def test_run_rejects_population_zero(tmp_path):
 
 def test_score_a_hand_drawn_floor(tmp_path):
     floor = {
-        "format": "mazegen-scenario", "version": 1,
+        "format": "mazegen-scenario",
+        "version": 1,
         "elements": [
             {"type": "router", "x": 100, "y": 100, "size": 30},
             {"type": "router", "x": 300, "y": 100, "size": 30},
@@ -127,14 +147,22 @@ def test_score_a_hand_drawn_floor(tmp_path):
     assert result.output.splitlines()[0] == "fitness\t2.5"
 
 
-@pytest.mark.parametrize(("content", "message"), [
-    ("{not json", "floor.json:1:2: not valid JSON"),
-    ('{"format": "other"}', "not a scenario file"),
-    ('{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "crate", "x": 1, "y": 1}]}',
-     "type 'crate' is not an element of scenario 'factory'"),
-    ('{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "router", "x": "a", "y": 1, '
-     '"size": 3}]}', "element 1: 'x' must be a number"),
-])
+@pytest.mark.parametrize(
+    ("content", "message"),
+    [
+        ("{not json", "floor.json:1:2: not valid JSON"),
+        ('{"format": "other"}', "not a scenario file"),
+        (
+            '{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "crate", "x": 1, "y": 1}]}',
+            "type 'crate' is not an element of scenario 'factory'",
+        ),
+        (
+            '{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "router", "x": "a", "y": 1, '
+            '"size": 3}]}',
+            "element 1: 'x' must be a number",
+        ),
+    ],
+)
 def test_score_reports_bad_scenarios(tmp_path, content, message):
     path = tmp_path / "floor.json"
     path.write_text(content)
@@ -156,8 +184,23 @@ def test_generated_experiment_runs_alone(tmp_path):
     build = tmp_path / "build"
     invoke("build", str(EXAMPLES / "factory.maze"), "-o", str(build))
     out = tmp_path / "alone"
-    done = subprocess.run([sys.executable, str(build / "experiment.py"), "--seed", "3", "--population", "40",
-                           "--generations", "2", "--quiet", "-o", str(out)], capture_output=True, text=True)
+    done = subprocess.run(
+        [
+            sys.executable,
+            str(build / "experiment.py"),
+            "--seed",
+            "3",
+            "--population",
+            "40",
+            "--generations",
+            "2",
+            "--quiet",
+            "-o",
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert done.returncode == 0, done.stderr
     assert (out / "run-01" / "best-01.json").is_file()
     assert json.loads((out / "experiment.json").read_text())["evolution"]["seed"] == 3
@@ -169,21 +212,31 @@ def test_textx_knows_the_language_and_generator(tmp_path):
     bad = tmp_path / "bad.maze"
     bad.write_text("element b { shape square size 9..1 }\n")
     refused = subprocess.run(["textx", "check", str(bad)], capture_output=True, text=True)
-    assert refused.returncode != 0 and "bad.maze:1:31: empty size range 9..1" in refused.stdout + refused.stderr
+    assert (
+        refused.returncode != 0 and "bad.maze:1:31: empty size range 9..1" in refused.stdout + refused.stderr
+    )
     out = tmp_path / "gen"
-    generate = subprocess.run(["textx", "generate", str(EXAMPLES / "mazegen1.maze"), "--target", "mazegen",
-                               "-o", str(out)], capture_output=True, text=True)
+    generate = subprocess.run(
+        ["textx", "generate", str(EXAMPLES / "mazegen1.maze"), "--target", "mazegen", "-o", str(out)],
+        capture_output=True,
+        text=True,
+    )
     assert generate.returncode == 0, generate.stderr
     assert "<composed> ::=" in (out / "grammar.bnf").read_text()
 
 
 def test_render_a_hand_drawn_floor_with_its_spec(tmp_path):
-    floor = {"format": "mazegen-scenario", "version": 1,
-             "elements": [{"type": "productionLine", "x": 700, "y": 500, "width": 400, "depth": 80}]}
+    floor = {
+        "format": "mazegen-scenario",
+        "version": 1,
+        "elements": [{"type": "productionLine", "x": 700, "y": 500, "width": 400, "depth": 80}],
+    }
     path = tmp_path / "floor.json"
     path.write_text(json.dumps(floor))
     without = invoke("render", str(path), "-o", str(tmp_path / "a.svg"))
     assert without.exit_code == 1
-    done = invoke("render", str(path), "-o", str(tmp_path / "a.svg"), "--spec", str(EXAMPLES / "factory.maze"))
+    done = invoke(
+        "render", str(path), "-o", str(tmp_path / "a.svg"), "--spec", str(EXAMPLES / "factory.maze")
+    )
     assert done.exit_code == 0, done.output
     assert (tmp_path / "a.svg").read_text().count("<polygon") == 1

@@ -22,13 +22,36 @@ from mazegen.spec import Part
 L_SHAPE = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2)]
 U_SHAPE = [(0, 0), (30, 0), (30, 30), (20, 30), (20, 10), (10, 10), (10, 30), (0, 30)]
 ARROW_CW = [(0, 1), (3, 1), (3, 2), (5, 0), (3, -2), (3, -1), (0, -1)]
-STAR = [(math.cos(math.pi / 2 + k * math.pi / 5) * (1.0 if k % 2 == 0 else 0.4),
-         math.sin(math.pi / 2 + k * math.pi / 5) * (1.0 if k % 2 == 0 else 0.4)) for k in range(10)]
-COMB = [(0, 0), (50, 0), (50, 20), (40, 20), (40, 5), (30, 5), (30, 20), (20, 20), (20, 5),
-        (10, 5), (10, 20), (0, 20)]
-NON_CONVEX = {"L": L_SHAPE, "U": U_SHAPE, "arrow_cw": ARROW_CW, "star": STAR, "comb": COMB,
-              "closed_l": [*L_SHAPE, L_SHAPE[0]],
-              "far_away": [(x * 1e3 + 5e5, y * 1e3 - 7e5) for x, y in U_SHAPE]}
+STAR = [
+    (
+        math.cos(math.pi / 2 + k * math.pi / 5) * (1.0 if k % 2 == 0 else 0.4),
+        math.sin(math.pi / 2 + k * math.pi / 5) * (1.0 if k % 2 == 0 else 0.4),
+    )
+    for k in range(10)
+]
+COMB = [
+    (0, 0),
+    (50, 0),
+    (50, 20),
+    (40, 20),
+    (40, 5),
+    (30, 5),
+    (30, 20),
+    (20, 20),
+    (20, 5),
+    (10, 5),
+    (10, 20),
+    (0, 20),
+]
+NON_CONVEX = {
+    "L": L_SHAPE,
+    "U": U_SHAPE,
+    "arrow_cw": ARROW_CW,
+    "star": STAR,
+    "comb": COMB,
+    "closed_l": [*L_SHAPE, L_SHAPE[0]],
+    "far_away": [(x * 1e3 + 5e5, y * 1e3 - 7e5) for x, y in U_SHAPE],
+}
 
 BAR_L = [((0, 0), (0, 2)), ((0, 0), (1, 0))]
 BAR_E = [((0, 0), (0, 4)), ((0, 0), (3, 0)), ((0, 2), (2, 2)), ((0, 4), (3, 4))]
@@ -175,16 +198,19 @@ def test_bar_figures_are_connected(segments: list) -> None:
     assert union.geom_type == "Polygon"
 
 
-@pytest.mark.parametrize(("points", "message"), [
-    ([(0, 0), (1, 1)], "3 distinct"),
-    ([(0, 0), (1, 1), (0, 0), (1, 1)], "3 distinct"),
-    ([(0, 0), (1, 1), (3, 3)], "zero area"),
-    ([(0, 0), (1, 0), (2, 0), (3, 0)], "zero area"),
-    ([(0, 0), (1, 1), (1, 0), (0, 1)], "cross"),
-    ([(0, 0), (2, 0), (2, 2), (1, -1), (0, 2)], "cross"),
-    ([(0, 0), (2, 0), (2, 2), (1, 0), (0, 2)], "cross"),
-    ([(0, 0), (2, 0), (1, 0), (1, 2)], "cross"),
-])
+@pytest.mark.parametrize(
+    ("points", "message"),
+    [
+        ([(0, 0), (1, 1)], "3 distinct"),
+        ([(0, 0), (1, 1), (0, 0), (1, 1)], "3 distinct"),
+        ([(0, 0), (1, 1), (3, 3)], "zero area"),
+        ([(0, 0), (1, 0), (2, 0), (3, 0)], "zero area"),
+        ([(0, 0), (1, 1), (1, 0), (0, 1)], "cross"),
+        ([(0, 0), (2, 0), (2, 2), (1, -1), (0, 2)], "cross"),
+        ([(0, 0), (2, 0), (2, 2), (1, 0), (0, 2)], "cross"),
+        ([(0, 0), (2, 0), (1, 0), (1, 2)], "cross"),
+    ],
+)
 def test_polygon_errors(points: list, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         polygon_parts(points)
@@ -195,13 +221,16 @@ def test_regular_polygon_needs_three_sides() -> None:
         regular_polygon_parts(2)
 
 
-@pytest.mark.parametrize(("segments", "thickness", "message"), [
-    ([((0, 0), (0, 0))], 1.0, "zero length"),
-    ([((0, 0), (1, 0)), ((1, 1), (1, 1))], 1.0, "zero length"),
-    ([], 1.0, "at least one segment"),
-    ([((0, 0), (1, 0))], 0.0, "thickness"),
-    ([((0, 0), (1, 0))], -2.0, "thickness"),
-])
+@pytest.mark.parametrize(
+    ("segments", "thickness", "message"),
+    [
+        ([((0, 0), (0, 0))], 1.0, "zero length"),
+        ([((0, 0), (1, 0)), ((1, 1), (1, 1))], 1.0, "zero length"),
+        ([], 1.0, "at least one segment"),
+        ([((0, 0), (1, 0))], 0.0, "thickness"),
+        ([((0, 0), (1, 0))], -2.0, "thickness"),
+    ],
+)
 def test_bar_errors(segments: list, thickness: float, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         bar_parts(segments, thickness)

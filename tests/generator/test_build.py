@@ -52,8 +52,10 @@ def test_worked_example_maps_through_the_generated_grammar():
 
 
 def test_list_style_and_grammar_placement(write_spec):
-    path = write_spec(BASE + "scenario s on canvas { elements square, lshape grammar list "
-                             "placement grammar sizes 1..3 scale 50 positions 100..300 step 100 }\n")
+    path = write_spec(
+        BASE + "scenario s on canvas { elements square, lshape grammar list "
+        "placement grammar sizes 1..3 scale 50 positions 100..300 step 100 }\n"
+    )
     assert rules_of(render_artifacts(load_spec(path))["grammar.bnf"]) == (
         "<scenario> ::= <element> | <element> <scenario>\n"
         "<element> ::= square(<size>,<number>,<number>) | lshape(<size>,<number>,<number>)\n"
@@ -63,8 +65,9 @@ def test_list_style_and_grammar_placement(write_spec):
 
 
 def test_custom_rules_keep_words_apart(write_spec):
-    path = write_spec(BASE + 'scenario s on canvas { grammar custom {\n'
-                             '  <s> ::= square lshape | square "(" <s> ")"\n} }\n')
+    path = write_spec(
+        BASE + 'scenario s on canvas { grammar custom {\n  <s> ::= square lshape | square "(" <s> ")"\n} }\n'
+    )
     spec = load_spec(path)
     assert spec.scenario.elements == ("square", "lshape")
     assert rules_of(render_artifacts(spec)["grammar.bnf"]) == '<s> ::= square lshape | square"("<s>")"\n'
@@ -84,16 +87,30 @@ def test_generated_python_compiles_and_passes_ruff(example, tmp_path):
     build(load_spec(example), tmp_path)
     for name in ("fitness.py", "experiment.py"):
         compile((tmp_path / name).read_text(), name, "exec")
-    lint = subprocess.run([sys.executable, "-m", "ruff", "check", "--isolated", "--select", "E,F,W,I,B,UP",
-                           str(tmp_path / "fitness.py"), str(tmp_path / "experiment.py")],
-                          capture_output=True, text=True)
+    lint = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "ruff",
+            "check",
+            "--isolated",
+            "--select",
+            "E,F,W,I,B,UP",
+            str(tmp_path / "fitness.py"),
+            str(tmp_path / "experiment.py"),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert lint.returncode == 0, lint.stdout + lint.stderr
 
 
 def test_fitness_lines_follow_the_terms(write_spec):
-    path = write_spec(BASE + "scenario s on canvas { elements square }\n"
-                             "fitness { count weight 2 overlap penalty 0.5 size limit 500 penalty 3 "
-                             "outside reject }\n")
+    path = write_spec(
+        BASE + "scenario s on canvas { elements square }\n"
+        "fitness { count weight 2 overlap penalty 0.5 size limit 500 penalty 3 "
+        "outside reject }\n"
+    )
     fitness = render_artifacts(load_spec(path))["fitness.py"]
     assert "'count': 2.0 * metrics.element_count(pop)" in fitness
     assert "'overlap': -0.5 * metrics.overlapping_pairs(pop)" in fitness
@@ -103,10 +120,12 @@ def test_fitness_lines_follow_the_terms(write_spec):
 
 def test_hostile_text_cannot_reach_python(write_spec, tmp_path):
     hostile = "'''; import os; os.system('echo pwned') #"
-    path = write_spec(BASE + "element __import__ { shape square size 10 class os }\n"
-                             "scenario print on canvas { grammar custom {\n"
-                             f'  <s> ::= __import__ "{hostile}" | square\n'
-                             "} }\n")
+    path = write_spec(
+        BASE + "element __import__ { shape square size 10 class os }\n"
+        "scenario print on canvas { grammar custom {\n"
+        f'  <s> ::= __import__ "{hostile}" | square\n'
+        "} }\n"
+    )
     spec = load_spec(path)
     out = tmp_path / "out"
     build(spec, out)
@@ -119,8 +138,10 @@ def test_hostile_text_cannot_reach_python(write_spec, tmp_path):
 
 
 def test_custom_rules_separate_rules_that_derive_words(write_spec, tmp_path):
-    path = write_spec(BASE + "scenario s on canvas { grammar custom {\n"
-                             "  <s> ::= <e> <s> | <e>\n  <e> ::= square | lshape\n} }\n")
+    path = write_spec(
+        BASE + "scenario s on canvas { grammar custom {\n"
+        "  <s> ::= <e> <s> | <e>\n  <e> ::= square | lshape\n} }\n"
+    )
     spec = load_spec(path)
     assert rules_of(render_artifacts(spec)["grammar.bnf"]).splitlines()[0] == "<s> ::= <e> <s> | <e>"
     build(spec, tmp_path / "b")

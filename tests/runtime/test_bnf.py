@@ -31,7 +31,12 @@ def test_paper_grammar() -> None:
     assert grammar.start == "<scenario>"
     assert list(grammar.rules) == ["<scenario>", "<composedFigures>"]
     assert grammar.rules["<scenario>"] == (
-        (T("angle"),), (T("square"),), (T("eshape"),), (T("lshape"),), (N("<composedFigures>"),))
+        (T("angle"),),
+        (T("square"),),
+        (T("eshape"),),
+        (T("lshape"),),
+        (N("<composedFigures>"),),
+    )
     assert grammar.rules["<composedFigures>"][2] == (T("eshape("), N("<scenario>"), T(")"))
 
 
@@ -75,7 +80,12 @@ def test_adjacent_terminal_pieces_merge() -> None:
 
 def test_escapes_are_decoded() -> None:
     assert alternatives(r"""<a> ::= 'a\nb' | "\t" | x\u00e9 | '\\' | \d""") == (
-        (T("a\nb"),), (T("\t"),), (T("xé"),), (T("\\"),), (T("\\d"),))
+        (T("a\nb"),),
+        (T("\t"),),
+        (T("xé"),),
+        (T("\\"),),
+        (T("\\d"),),
+    )
 
 
 def test_non_ascii_text_is_kept() -> None:
@@ -89,12 +99,18 @@ def test_blank_alternatives_are_skipped_and_empty_quotes_are_terminals() -> None
 
 def test_lone_angle_brackets_are_text() -> None:
     assert alternatives("<a> ::= x < y | << | a<=b | <") == (
-        (T("x < y"),), (T("<<"),), (T("a<=b"),), (T("<"),))
+        (T("x < y"),),
+        (T("<<"),),
+        (T("a<=b"),),
+        (T("<"),),
+    )
 
 
 def test_crlf_line_endings() -> None:
     assert parse_bnf("<a> ::= x\r\n | <b>\r\n<b> ::= y\r\n").rules == {
-        "<a>": ((T("x"),), (N("<b>"),)), "<b>": ((T("y"),),)}
+        "<a>": ((T("x"),), (N("<b>"),)),
+        "<b>": ((T("y"),),),
+    }
 
 
 ERRORS = [

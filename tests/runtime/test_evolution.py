@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import hashlib
+import itertools
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +32,7 @@ def test_population_size_stays_constant_and_best_never_drops(factory):
     assert result.genes.shape == (150, factory.slots, 5)
     bests = [row.best for row in result.stats]
     assert len(result.stats) == 7
-    assert all(b2 >= b1 for b1, b2 in zip(bests, bests[1:]))
+    assert all(b2 >= b1 for b1, b2 in itertools.pairwise(bests))
     assert bests[-1] > bests[0]
     assert all(row.cache_hits >= 2 for row in result.stats[1:])  # the elites are not evaluated again
     assert all(row.evaluations + row.cache_hits == 150 for row in result.stats)
@@ -64,8 +65,12 @@ def test_same_seed_same_bytes_other_seed_other_scenarios(tmp_path):
         runs[name] = tmp_path / name
     assert digest(runs["a"]) == digest(runs["b"])
     assert stats_without_time(runs["a"]) == stats_without_time(runs["b"])
-    assert (runs["a"] / "run-01" / "best-01.json").read_bytes() != (runs["c"] / "run-01" / "best-01.json").read_bytes()
-    assert (runs["a"] / "run-01" / "best-01.json").read_bytes() != (runs["a"] / "run-02" / "best-01.json").read_bytes()
+    assert (runs["a"] / "run-01" / "best-01.json").read_bytes() != (
+        runs["c"] / "run-01" / "best-01.json"
+    ).read_bytes()
+    assert (runs["a"] / "run-01" / "best-01.json").read_bytes() != (
+        runs["a"] / "run-02" / "best-01.json"
+    ).read_bytes()
 
 
 @pytest.mark.parametrize("example", ALL_EXAMPLES, ids=lambda p: str(p.relative_to(EXAMPLES)))

@@ -23,18 +23,27 @@ TYPES = (
     ElementType("box", "rect", rect_parts(), (20, 120), (20, 120)),
     ElementType("tri", "triangle", triangle_parts(), (20, 120)),
     ElementType("hex", "polygon", regular_polygon_parts(6), (20, 120)),
-    ElementType("arrow", "polygon",
-                polygon_parts([(0, 1), (3, 1), (3, 2), (5, 0), (3, -2), (3, -1), (0, -1)]), (20, 120)),
+    ElementType(
+        "arrow",
+        "polygon",
+        polygon_parts([(0, 1), (3, 1), (3, 2), (5, 0), (3, -2), (3, -1), (0, -1)]),
+        (20, 120),
+    ),
     ElementType("ell", "bars", bar_parts([((0, 0), (0, 2)), ((0, 0), (1, 0))], 6.0), (20, 120)),
-    ElementType("e", "bars", bar_parts([((0, 0), (0, 4)), ((0, 0), (3, 0)), ((0, 2), (2, 2)),
-                                        ((0, 4), (3, 4))], 4.0), (20, 120)),
+    ElementType(
+        "e",
+        "bars",
+        bar_parts([((0, 0), (0, 4)), ((0, 0), (3, 0)), ((0, 2), (2, 2)), ((0, 4), (3, 4))], 4.0),
+        (20, 120),
+    ),
 )
 SQUARE = (ElementType("square", "square", rect_parts(), (20, 20)),)
 TABLE = ElementTable.from_types(TYPES)
 
 
-def random_population(rng: np.random.Generator, n: int, k: int, width: float, height: float,
-                      margin: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def random_population(
+    rng: np.random.Generator, n: int, k: int, width: float, height: float, margin: float = 0.0
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Random individuals; rects get two sizes, other types one. Padding is -1 / NaN."""
     n_elements = rng.integers(0, k + 1, n).astype(np.int32)
     used = np.arange(k) < n_elements[:, None]
@@ -54,8 +63,10 @@ def element_geometry(table: ElementTable, element_id: int, row: np.ndarray):
 
 
 def shapely_geometries(table, ids, n_elements, params) -> list[list]:
-    return [[element_geometry(table, ids[i, k], params[i, k]) for k in range(n_elements[i])]
-            for i in range(len(ids))]
+    return [
+        [element_geometry(table, ids[i, k], params[i, k]) for k in range(n_elements[i])]
+        for i in range(len(ids))
+    ]
 
 
 def sat_overlap(a: np.ndarray, b: np.ndarray) -> bool:
@@ -131,8 +142,9 @@ def test_overlaps_match_shapely_on_random_scenarios() -> None:
 def test_overlaps_match_reference_sat_exactly() -> None:
     rng = np.random.default_rng(5)
     ids, n_elements, params = random_population(rng, 600, 7, 300.0, 250.0)
-    np.testing.assert_array_equal(overlapping_pairs(TABLE, ids, n_elements, params),
-                                  reference_pairs(TABLE, ids, n_elements, params))
+    np.testing.assert_array_equal(
+        overlapping_pairs(TABLE, ids, n_elements, params), reference_pairs(TABLE, ids, n_elements, params)
+    )
 
 
 def test_touching_on_a_grid_matches_reference_and_shapely() -> None:
@@ -148,8 +160,10 @@ def test_touching_on_a_grid_matches_reference_and_shapely() -> None:
     got = overlapping_pairs(table, ids, n_elements, params)
     np.testing.assert_array_equal(got, reference_pairs(table, ids, n_elements, params))
     geometries = shapely_geometries(table, ids, n_elements, params)
-    expected = [sum(row[a].intersection(row[b]).area > 1e-9 for a in range(k) for b in range(a + 1, k))
-                for row in geometries]
+    expected = [
+        sum(row[a].intersection(row[b]).area > 1e-9 for a in range(k) for b in range(a + 1, k))
+        for row in geometries
+    ]
     np.testing.assert_array_equal(got, expected)
 
 
@@ -228,12 +242,15 @@ def test_empty_population_and_empty_individuals() -> None:
     assert overlapping_pairs(TABLE, ids, n_elements, params).tolist() == [0, 0, 0]
 
 
-@pytest.mark.parametrize(("ids", "n_elements", "params", "message"), [
-    (np.zeros((2, 3)), np.zeros(3), np.zeros((2, 3, 5)), "disagree"),
-    (np.zeros((2, 3)), np.zeros(2), np.zeros((2, 3, 4)), "disagree"),
-    (np.zeros((2, 3)), np.array([1, 4]), np.zeros((2, 3, 5)), "n_elements"),
-    (np.full((2, 3), 6), np.array([1, 3]), np.zeros((2, 3, 5)), "element ids"),
-])
+@pytest.mark.parametrize(
+    ("ids", "n_elements", "params", "message"),
+    [
+        (np.zeros((2, 3)), np.zeros(3), np.zeros((2, 3, 5)), "disagree"),
+        (np.zeros((2, 3)), np.zeros(2), np.zeros((2, 3, 4)), "disagree"),
+        (np.zeros((2, 3)), np.array([1, 4]), np.zeros((2, 3, 5)), "n_elements"),
+        (np.full((2, 3), 6), np.array([1, 3]), np.zeros((2, 3, 5)), "element ids"),
+    ],
+)
 def test_inconsistent_population_is_rejected(ids, n_elements, params, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         overlapping_pairs(TABLE, ids, n_elements, params)

@@ -53,8 +53,9 @@ def ponyge2(grammar: Grammar, genome: list[int], max_tree_depth: int = 90) -> tu
     return (None if stack else "".join(output)), used
 
 
-def textbook(grammar: Grammar, genome: list[int], consume: str, wraps: int,
-             max_depth: int) -> tuple[str | None, int]:
+def textbook(
+    grammar: Grammar, genome: list[int], consume: str, wraps: int, max_depth: int
+) -> tuple[str | None, int]:
     """The usual mapping, rewriting a sentential form left to right (PonyGE2's depth rule)."""
     form, i, used, deepest = [Symbol(grammar.start, True)], 0, 0, 1
     depths = [1]
@@ -71,8 +72,8 @@ def textbook(grammar: Grammar, genome: list[int], consume: str, wraps: int,
         else:
             chosen = choices[genome[used % len(genome)] % len(choices)]
             used += 1
-        form[i:i + 1] = chosen
-        depths[i:i + 1] = [depths[i] + 1] * len(chosen)
+        form[i : i + 1] = chosen
+        depths[i : i + 1] = [depths[i] + 1] * len(chosen)
     return (None if i < len(form) else "".join(s.text for s in form)), used
 
 
@@ -85,17 +86,20 @@ def test_paper_example() -> None:
     assert np.isnan(result.numbers[0]).all()
 
 
-@pytest.mark.parametrize(("genome", "options", "expected"), [
-    # Two codons run out before the second <t>: PonyGE2 counts a wrap, pops "y" and stops.
-    ([0, 1], {}, MapResult(None, False, 2)),
-    # The genome runs out right before a non-terminal: it still reads codon 0 (n + 1 codons).
-    ([5], {}, MapResult(None, False, 2)),
-    ([0, 1, 0], {}, MapResult("yx", True, 3)),
-    # With one wrap the genome is read again from the start.
-    ([0, 1], {"wraps": 1}, MapResult("yx", True, 3)),
-    ([5], {"wraps": 1}, MapResult(None, False, 2)),
-    ([5], {"wraps": 2}, MapResult("yy", True, 3)),
-])
+@pytest.mark.parametrize(
+    ("genome", "options", "expected"),
+    [
+        # Two codons run out before the second <t>: PonyGE2 counts a wrap, pops "y" and stops.
+        ([0, 1], {}, MapResult(None, False, 2)),
+        # The genome runs out right before a non-terminal: it still reads codon 0 (n + 1 codons).
+        ([5], {}, MapResult(None, False, 2)),
+        ([0, 1, 0], {}, MapResult("yx", True, 3)),
+        # With one wrap the genome is read again from the start.
+        ([0, 1], {"wraps": 1}, MapResult("yx", True, 3)),
+        ([5], {"wraps": 1}, MapResult(None, False, 2)),
+        ([5], {"wraps": 2}, MapResult("yy", True, 3)),
+    ],
+)
 def test_ponyge2_wrap_quirk(genome: list[int], options: dict, expected: MapResult) -> None:
     assert map_genome(TWO_T, genome, **options) == expected
 
@@ -117,14 +121,17 @@ def test_lazy_unit_rules_consume_no_codon() -> None:
     assert map_genome(grammar, [1, 0], consume="lazy") == MapResult(None, False, 2)
 
 
-@pytest.mark.parametrize(("consume", "wraps", "expected"), [
-    ("eager", 0, MapResult(None, False, 2)),
-    ("eager", 2, MapResult(None, False, 3)),
-    ("eager", 3, MapResult("yyy", True, 4)),
-    ("lazy", 0, MapResult(None, False, 1)),
-    ("lazy", 1, MapResult(None, False, 2)),
-    ("lazy", 2, MapResult("yyy", True, 3)),
-])
+@pytest.mark.parametrize(
+    ("consume", "wraps", "expected"),
+    [
+        ("eager", 0, MapResult(None, False, 2)),
+        ("eager", 2, MapResult(None, False, 3)),
+        ("eager", 3, MapResult("yyy", True, 4)),
+        ("lazy", 0, MapResult(None, False, 1)),
+        ("lazy", 1, MapResult(None, False, 2)),
+        ("lazy", 2, MapResult("yyy", True, 3)),
+    ],
+)
 def test_wraps(consume: str, wraps: int, expected: MapResult) -> None:
     grammar = parse_bnf("<e> ::= <t><t><t>\n<t> ::= x | y")
     assert map_genome(grammar, [1], consume=consume, wraps=wraps) == expected
@@ -151,8 +158,9 @@ def test_depth_limit(options: dict) -> None:
 def test_lazy_unit_cycle_stops_at_the_depth_limit() -> None:
     grammar = parse_bnf("<s> ::= <loop> | z\n<loop> ::= <loop>")
     assert map_genome(grammar, [0], consume="lazy") == MapResult(None, False, 1)
-    result = map_population(compile_grammar(grammar, ()), np.array([[0], [1]]), consume="lazy",
-                            max_elements=1)
+    result = map_population(
+        compile_grammar(grammar, ()), np.array([[0], [1]]), consume="lazy", max_elements=1
+    )
     assert list(result.valid) == [False, True]
     assert list(result.used_codons) == [1, 1]
 
@@ -189,22 +197,34 @@ def test_other_modes_equal_textbook(name: str, consume: str, wraps: int) -> None
 def test_extract_elements() -> None:
     text = "3 cobot(1, -2.5, 3, 4, 5) wall 7 x1 ; 8 walls wall(-0.25) cobot2 4. 1.2.3 --6"
     assert extract_elements(text, ("cobot", "wall")) == [
-        (0, (1.0, -2.5, 3.0, 4.0)), (1, (7.0, 8.0)), (1, (-0.25, 4.0, 1.2, 3.0))]
+        (0, (1.0, -2.5, 3.0, 4.0)),
+        (1, (7.0, 8.0)),
+        (1, (-0.25, 4.0, 1.2, 3.0)),
+    ]
 
 
-@pytest.mark.parametrize(("text", "elements", "max_elements", "expected"), [
-    ("3 cobot(1, -2.5, 3, 4, 5) wall 7 x1 ; 8 wall(-0.25) w 2", ("cobot", "wall"), 3,
-     [(0, (1.0, -2.5, 3.0, 4.0)), (1, (7.0, 8.0)), (1, (-0.25, 2.0))]),
-    ("co<t>\n<t> ::= bot 1<n>\n<n> ::= 2.5 | 9", ("cobot",), 1, [(0, (12.5,))]),
-    ("wall wall wall", ("wall",), 3, [(0, ()), (0, ()), (0, ())]),
-    ("wall wall wall", ("wall",), 2, None),
-    ("<e>\n<e> ::= <e>", ("wall",), 2, None),
-])
-def test_kernel_elements(text: str, elements: tuple[str, ...], max_elements: int,
-                         expected: list | None) -> None:
+@pytest.mark.parametrize(
+    ("text", "elements", "max_elements", "expected"),
+    [
+        (
+            "3 cobot(1, -2.5, 3, 4, 5) wall 7 x1 ; 8 wall(-0.25) w 2",
+            ("cobot", "wall"),
+            3,
+            [(0, (1.0, -2.5, 3.0, 4.0)), (1, (7.0, 8.0)), (1, (-0.25, 2.0))],
+        ),
+        ("co<t>\n<t> ::= bot 1<n>\n<n> ::= 2.5 | 9", ("cobot",), 1, [(0, (12.5,))]),
+        ("wall wall wall", ("wall",), 3, [(0, ()), (0, ()), (0, ())]),
+        ("wall wall wall", ("wall",), 2, None),
+        ("<e>\n<e> ::= <e>", ("wall",), 2, None),
+    ],
+)
+def test_kernel_elements(
+    text: str, elements: tuple[str, ...], max_elements: int, expected: list | None
+) -> None:
     grammar = parse_bnf("<s> ::= " + text)
-    result = map_population(compile_grammar(grammar, elements), np.zeros((2, 3), np.int64),
-                            max_elements=max_elements)
+    result = map_population(
+        compile_grammar(grammar, elements), np.zeros((2, 3), np.int64), max_elements=max_elements
+    )
     assert list(result.used_codons) == [map_genome(grammar, [0, 0, 0]).used_codons] * 2
     if expected is None:
         assert not result.valid.any()
@@ -215,13 +235,14 @@ def test_kernel_elements(text: str, elements: tuple[str, ...], max_elements: int
     assert list(result.n_elements) == [len(expected)] * 2
     for e, (element, numbers) in enumerate(expected):
         assert result.element_ids[1, e] == element
-        assert list(result.numbers[1, e, :len(numbers)]) == list(numbers)
-        assert np.isnan(result.numbers[1, e, len(numbers):]).all()
-    assert (result.element_ids[:, len(expected):] == -1).all()
+        assert list(result.numbers[1, e, : len(numbers)]) == list(numbers)
+        assert np.isnan(result.numbers[1, e, len(numbers) :]).all()
+    assert (result.element_ids[:, len(expected) :] == -1).all()
 
 
-def _check_kernel(grammar: Grammar, elements: tuple[str, ...], codons: np.ndarray, max_elements: int = 4,
-                  **options: object) -> None:
+def _check_kernel(
+    grammar: Grammar, elements: tuple[str, ...], codons: np.ndarray, max_elements: int = 4, **options: object
+) -> None:
     """Assert the kernel agrees with the reference mapper and tokeniser on every row."""
     result = map_population(compile_grammar(grammar, elements), codons, max_elements=max_elements, **options)
     for i, genome in enumerate(codons.tolist()):
@@ -235,7 +256,7 @@ def _check_kernel(grammar: Grammar, elements: tuple[str, ...], codons: np.ndarra
         assert list(result.element_ids[i]) == ids, (genome, options, reference.phenotype)
         numbers = np.full((max_elements, 4), np.nan)
         for e, (_, values) in enumerate(found):
-            numbers[e, :len(values)] = values
+            numbers[e, : len(values)] = values
         assert np.array_equal(result.numbers[i], numbers, equal_nan=True), (genome, reference.phenotype)
 
 
@@ -246,8 +267,9 @@ def test_kernel_equals_reference(name: str, consume: str, wraps: int) -> None:
     rng = np.random.default_rng([len(name), wraps, consume == "lazy"])
     for length, max_depth, max_elements in [(1, 90, 3), (3, 90, 4), (8, 5, 2), (16, 90, 4), (32, 8, 2)]:
         codons = rng.integers(0, 256, (300, length))
-        _check_kernel(grammar, elements, codons, max_elements, consume=consume, wraps=wraps,
-                      max_depth=max_depth)
+        _check_kernel(
+            grammar, elements, codons, max_elements, consume=consume, wraps=wraps, max_depth=max_depth
+        )
 
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.int16, np.int32, np.uint32, np.int64])
@@ -260,8 +282,9 @@ def test_kernel_negative_codons_and_empty_genomes() -> None:
     grammar, elements = CASES["tricky"]
     _check_kernel(grammar, elements, np.random.default_rng(5).integers(-300, 300, (500, 9)))
     _check_kernel(grammar, elements, np.zeros((3, 0), np.int64), consume="lazy", wraps=1)
-    assert map_population(compile_grammar(grammar, elements), np.zeros((0, 5), np.int64),
-                          max_elements=2).valid.shape == (0,)
+    assert map_population(
+        compile_grammar(grammar, elements), np.zeros((0, 5), np.int64), max_elements=2
+    ).valid.shape == (0,)
 
 
 def test_kernel_reuses_out_arrays() -> None:
@@ -282,17 +305,20 @@ def test_kernel_reuses_out_arrays() -> None:
 NO_ELEMENTS = compile_grammar(PAPER, ())
 
 
-@pytest.mark.parametrize(("call", "message"), [
-    (lambda: map_genome(PAPER, [1], consume="greedy"), "consume must be"),
-    (lambda: map_genome(PAPER, [1], wraps=-1), "wraps must be"),
-    (lambda: map_genome(PAPER, [1], max_depth=0), "max_depth >= 1"),
-    (lambda: map_population(NO_ELEMENTS, np.zeros(3, np.int64), max_elements=1), "2-D integer"),
-    (lambda: map_population(NO_ELEMENTS, np.zeros((3, 2)), max_elements=1), "2-D integer"),
-    (lambda: map_population(NO_ELEMENTS, np.zeros((3, 2), int), max_elements=-1), "max_elements"),
-    (lambda: compile_grammar(PAPER, ("angle", "angle")), "repeat"),
-    (lambda: compile_grammar(PAPER, ("two words",)), "not an identifier"),
-    (lambda: compile_grammar(PAPER, ("héllo",)), "not an identifier"),
-])
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: map_genome(PAPER, [1], consume="greedy"), "consume must be"),
+        (lambda: map_genome(PAPER, [1], wraps=-1), "wraps must be"),
+        (lambda: map_genome(PAPER, [1], max_depth=0), "max_depth >= 1"),
+        (lambda: map_population(NO_ELEMENTS, np.zeros(3, np.int64), max_elements=1), "2-D integer"),
+        (lambda: map_population(NO_ELEMENTS, np.zeros((3, 2)), max_elements=1), "2-D integer"),
+        (lambda: map_population(NO_ELEMENTS, np.zeros((3, 2), int), max_elements=-1), "max_elements"),
+        (lambda: compile_grammar(PAPER, ("angle", "angle")), "repeat"),
+        (lambda: compile_grammar(PAPER, ("two words",)), "not an identifier"),
+        (lambda: compile_grammar(PAPER, ("héllo",)), "not an identifier"),
+    ],
+)
 def test_bad_arguments(call, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         call()

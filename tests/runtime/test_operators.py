@@ -57,7 +57,7 @@ def test_one_point_crossover_swaps_tails():
 def test_mutation_rate_is_respected(rate):
     codons = np.zeros((400, 50), dtype=np.int32)
     genes = np.zeros((400, 10, 5), dtype=np.uint16)
-    new_codons, new_genes = ops.int_flip_mutation(rng(), codons, genes, rate, 255)
+    new_codons, _new_genes = ops.int_flip_mutation(rng(), codons, genes, rate, 255)
     positions = ops.hit_positions(rng(1), 20000, rate)
     assert abs(positions.size / 20000 - rate) < 0.01
     assert np.unique(positions).size == positions.size

@@ -46,8 +46,8 @@ def test_size_limit_and_outside_metrics(tmp_path):
     # flat: square() twice -> two elements.
     codons = np.array([[5, 1]], dtype=np.int32)
     genes = np.zeros((1, problem.slots, 5), dtype=np.uint16)
-    genes[0, 0] = [GENE_MAX // 2, GENE_MAX // 2, GENE_MAX, 0, 0]   # centred, size 800 > 500
-    genes[0, 1] = [0, GENE_MAX // 2, 0, 0, 0]                      # on the left wall, size 40
+    genes[0, 0] = [GENE_MAX // 2, GENE_MAX // 2, GENE_MAX, 0, 0]  # centred, size 800 > 500
+    genes[0, 1] = [0, GENE_MAX // 2, 0, 0, 0]  # on the left wall, size 40
     _, population = problem.decode(codons, genes)
     assert population.n_elements[0] == 2
     assert metrics.elements_over_size(population, 500.0).tolist() == [1.0]
@@ -94,4 +94,6 @@ def test_placement_kernel_equals_numpy_reference(example, tmp_path):
     placement = problem.spec.scenario.placement
     scale = None if placement is None else placement.scale
     expected = reference_params(mapped, genes, problem.ranges, problem.spec.arena, scale)
-    assert np.array_equal(placement_params(mapped, genes, problem.ranges, problem.spec.arena, scale), expected)
+    assert np.array_equal(
+        placement_params(mapped, genes, problem.ranges, problem.spec.arena, scale), expected
+    )

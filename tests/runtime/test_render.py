@@ -21,25 +21,47 @@ def square(cx: float, cy: float, half: float) -> list[list[float]]:
 
 
 def element(kind: str, colour: str, *parts: list[list[float]]) -> dict:
-    return {"type": kind, "class": "thing", "colour": colour, "height": 50.0,
-            "x": parts[0][0][0], "y": parts[0][0][1], "rotation": 0.0, "size": 10.0, "parts": list(parts)}
+    return {
+        "type": kind,
+        "class": "thing",
+        "colour": colour,
+        "height": 50.0,
+        "x": parts[0][0][0],
+        "y": parts[0][0][1],
+        "rotation": 0.0,
+        "size": 10.0,
+        "parts": list(parts),
+    }
 
 
 def document(*elements: dict, width: float = 1400.0, height: float = 1050.0, name: str = "factory") -> dict:
     return {
-        "format": "mazegen-scenario", "version": 1, "scenario": name,
-        "arena": {"name": "floor", "width": width, "height": height, "unit": "cm",
-                  "start": [60.0, 60.0], "goal": [width - 60.0, height - 60.0], "robot_radius": 25.0},
+        "format": "mazegen-scenario",
+        "version": 1,
+        "scenario": name,
+        "arena": {
+            "name": "floor",
+            "width": width,
+            "height": height,
+            "unit": "cm",
+            "start": [60.0, 60.0],
+            "goal": [width - 60.0, height - 60.0],
+            "robot_radius": 25.0,
+        },
         "elements": list(elements),
-        "phenotype": "x", "fitness": 4.0, "terms": {}, "valid": True, "origin": {},
+        "phenotype": "x",
+        "fitness": 4.0,
+        "terms": {},
+        "valid": True,
+        "origin": {},
     }
 
 
 @pytest.fixture
 def doc() -> dict:
     return document(
-        element("cobot", "#e4572e", square(300, 900, 60)),            # near the top
-        element("cobot", "#e4572e", square(300, 150, 60)),            # near the bottom
+        element("cobot", "#e4572e", square(300, 900, 60)),  # near the top
+        element("cobot", "#e4572e", square(300, 150, 60)),  # near the bottom
         element("router", "#1f77b4", square(1000, 500, 40), square(1100, 500, 20)),
     )
 
@@ -88,7 +110,7 @@ def test_svg_escapes_hostile_text(doc: dict) -> None:
     svg = scenario_svg(doc)
     assert "<script>" not in svg and "<b>" not in svg
     assert "&lt;script&gt; (1)" in svg
-    assert any(t.startswith("<script>") for t in texts(svg))      # parsed back to the raw name
+    assert any(t.startswith("<script>") for t in texts(svg))  # parsed back to the raw name
     assert any(t.startswith('a"&<b>') for t in texts(svg))
 
 
@@ -101,7 +123,7 @@ def test_legend_counts_each_type(doc: dict) -> None:
 def test_title_and_scale_bar(doc: dict) -> None:
     labels = texts(scenario_svg(doc))
     assert "factory | 3 elements | fitness 4" in labels
-    assert "200 cm" in labels                                        # 1400 / 4 = 350 -> 200
+    assert "200 cm" in labels  # 1400 / 4 = 350 -> 200
 
 
 def test_svg_is_deterministic(doc: dict) -> None:
@@ -115,12 +137,14 @@ def test_png_size_colour_and_free_space(doc: dict) -> None:
     assert max(image.size) == 600
     svg = ET.fromstring(scenario_svg(doc, pixels=600))
     assert image.size == (int(svg.get("width", "0")), int(svg.get("height", "0")))
-    points = [tuple(map(float, p.split(","))) for p in polygons(scenario_svg(doc, pixels=600))[0]
-              .get("points", "").split()]
+    points = [
+        tuple(map(float, p.split(",")))
+        for p in polygons(scenario_svg(doc, pixels=600))[0].get("points", "").split()
+    ]
     cx = round(sum(x for x, _ in points) / 4)
     cy = round(sum(y for _, y in points) / 4)
     r, g, b = image.getpixel((cx, cy))
-    assert r > 200 and 100 < g < 200 and 90 < b < 180                 # #e4572e blended on white
+    assert r > 200 and 100 < g < 200 and 90 < b < 180  # #e4572e blended on white
     arena = svg.findall(f"{SVG}rect")[1]
     free = (round(float(arena.get("x", "0"))) + 200, round(float(arena.get("y", "0"))) + 30)
     assert image.getpixel(free) == (255, 255, 255)
