@@ -200,8 +200,12 @@ def _points(items: Any) -> tuple[Point, ...]:
     return tuple((float(x), float(y)) for x, y in items)
 
 
-def _pair(item: Any) -> tuple[float, float] | None:
-    return None if item is None else (float(item[0]), float(item[1]))
+def _pair(item: Any) -> tuple[float, float]:
+    return (float(item[0]), float(item[1]))
+
+
+def _optional_pair(item: Any) -> tuple[float, float] | None:
+    return None if item is None else _pair(item)
 
 
 def _spec_from_dict(data: dict[str, Any]) -> Spec:
@@ -210,10 +214,10 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
             name=e["name"],
             shape=e["shape"],
             parts=tuple(Part(_points(p["unit"]), _points(p["offset"])) for p in e["parts"]),
-            size=_pair(e["size"]),  # type: ignore[arg-type]
-            size2=_pair(e["size2"]),
+            size=_pair(e["size"]),
+            size2=_optional_pair(e["size2"]),
             rotations=tuple(float(r) for r in e["rotations"]),
-            rotation_range=_pair(e["rotation_range"]),
+            rotation_range=_optional_pair(e["rotation_range"]),
             colour=e["colour"],
             semantic_class=e["semantic_class"],
             height=float(e["height"]),
@@ -229,7 +233,7 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         _pair(a["start"]),
         _pair(a["goal"]),
         float(a["robot_radius"]),
-    )  # type: ignore[arg-type]
+    )
     s = data["scenario"]
     placement = s["placement"]
     scenario = Scenario(

@@ -55,8 +55,10 @@ def parse_file(path: Path) -> ParsedFile:
     label = display_path(path)
     try:
         text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
+    except OSError as error:
         raise MazeError(f"cannot read spec: {error.strerror or error}", filename=label) from None
+    except UnicodeDecodeError:
+        raise MazeError("cannot read spec: not UTF-8 text", filename=label) from None
     with _loading():
         try:
             model = metamodel().model_from_str(text, file_name=label)

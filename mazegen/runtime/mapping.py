@@ -235,7 +235,8 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
             alt_symbols.append(len(symbols))
             alt_nts.append(sum(s.nonterminal for s in alternative))
         rule_alts.append(len(alt_symbols) - 1)
-    term_chars, chars = [0], []
+    term_chars: list[int] = [0]
+    chars: list[int] = []
     for text in terminals:
         chars.extend(ord(c) if ord(c) < 128 else 0 for c in text)
         term_chars.append(len(chars))

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Protocol
 
 from rich.console import Console
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeElapsedColumn
 
 from mazegen.runtime.evolution import GenerationStats
 
@@ -44,7 +44,7 @@ class RichReporter:
             console=console or Console(stderr=True),
             transient=False,
         )
-        self._task = None
+        self._task: TaskID | None = None
 
     def start_run(self, run: int, runs: int, generations: int) -> None:
         """Open the bar of run ``run`` (1-based)."""
@@ -55,7 +55,8 @@ class RichReporter:
     def generation(self, stats: GenerationStats) -> None:
         """Advance by one generation."""
         best = "-" if stats.best != stats.best else f"{stats.best:g}"
-        self._progress.update(self._task, advance=1, best=best)
+        if self._task is not None:
+            self._progress.update(self._task, advance=1, best=best)
 
     def end_run(self) -> None:
         """Stop drawing after the last run."""
