@@ -1,0 +1,5 @@
+"""``python -m mazegen``: the same as the ``mazegen`` command."""
+
+from mazegen.cli.main import main
+
+main()
