@@ -1,10 +1,12 @@
-"""Atomic file writes: a reader never sees a half-written file."""
+"""File I/O with user-facing guarantees: atomic writes, one-line read errors."""
 
 from __future__ import annotations
 
 import os
 import tempfile
 from pathlib import Path
+
+from mazegen.errors import MazeError
 
 
 def write_atomic(path: Path, data: str | bytes) -> None:
@@ -19,3 +21,18 @@ def write_atomic(path: Path, data: str | bytes) -> None:
     except BaseException:
         Path(temp).unlink(missing_ok=True)
         raise
+
+
+def read_text(path: Path, what: str) -> str:
+    """Read a UTF-8 text file; a missing or unreadable file is a one-line :class:`MazeError`.
+
+    Args:
+        path: The file.
+        what: What the file is, for the message (``spec``, ``scenario``…).
+    """
+    try:
+        return path.read_text(encoding="utf-8")
+    except OSError as error:
+        raise MazeError(f"cannot read {what}: {error.strerror or error}", filename=str(path)) from None
+    except UnicodeDecodeError:
+        raise MazeError(f"cannot read {what}: not UTF-8 text", filename=str(path)) from None

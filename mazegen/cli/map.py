@@ -10,13 +10,14 @@ import click
 
 from mazegen.cli.errors import reports_errors
 from mazegen.errors import MazeError
+from mazegen.fileio import read_text
 
 _SEPARATOR = re.compile(r"[\s,]+")
 
 
 def _genomes(path: Path) -> list[tuple[int, list[int]]]:
     genomes = []
-    for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+    for number, line in enumerate(read_text(path, "genomes").splitlines(), start=1):
         text = line.strip().strip("[]")
         if not text:
             continue

@@ -29,7 +29,7 @@ def render(scenario: Path, out: Path, spec: Path | None) -> None:
     from mazegen.runtime.render import render_file
     from mazegen.runtime.scenario import completed_document, read_document
 
-    document = read_document(scenario.read_text(encoding="utf-8"), str(scenario))
+    document = read_document(scenario)
     if spec is not None:
         from mazegen.dsl.loader import load_spec
 

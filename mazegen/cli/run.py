@@ -36,17 +36,16 @@ def run(
 ) -> None:
     """Run the experiment of a .maze SPEC or of a BUILD_DIR made by `mazegen build`."""
     from mazegen import api
-    from mazegen.runtime.experiment import summary_lines
-    from mazegen.runtime.progress import QuietReporter, RichReporter
+    from mazegen.runtime.experiment import default_run_dir, summary_lines
+    from mazegen.runtime.problem import read_build_spec
+    from mazegen.runtime.progress import reporter_for
 
-    spec = api.load(source) if source.is_file() else None
-    name = spec.name if spec is not None else _build_name(source)
-    chosen_seed = seed if seed is not None else (spec.evolution.seed if spec is not None else None)
-    target = out or Path("runs") / (f"{name}-seed{chosen_seed}" if chosen_seed is not None else name)
-    reporter = QuietReporter() if quiet else RichReporter()
+    spec = api.load(source) if source.is_file() else read_build_spec(source)
+    target = out or default_run_dir(spec.with_evolution(seed=seed))
+    reporter = reporter_for(quiet=quiet)
     try:
         outcome = api.run(
-            spec if spec is not None else source,
+            spec if source.is_file() else source,
             seed=seed,
             runs=runs,
             population=population,
@@ -56,19 +55,7 @@ def run(
             reporter=reporter,
         )
     finally:
-        if isinstance(reporter, RichReporter):
-            reporter.close()
+        reporter.close()
     for line in summary_lines(outcome):
         click.echo(line)
     click.echo(f"wrote {target}")
-
-
-def _build_name(build_dir: Path) -> str:
-    from mazegen.errors import MazeError
-    from mazegen.spec import Spec
-
-    spec_file = build_dir / "spec.json"
-    if not spec_file.is_file():
-        raise MazeError("not a .maze file nor a build directory (no spec.json)", filename=str(build_dir))
-    spec = Spec.from_json(spec_file.read_text(encoding="utf-8"))
-    return f"{spec.name}-seed{spec.evolution.seed}"

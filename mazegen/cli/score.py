@@ -22,7 +22,7 @@ def score(spec: Path, scenario: Path) -> None:
     from mazegen.runtime.scenario import population_from_document, read_document
 
     resolved = load_spec(spec)
-    document = read_document(scenario.read_text(encoding="utf-8"), str(scenario))
+    document = read_document(scenario)
     with tempfile.TemporaryDirectory(prefix="mazegen-score-") as temp:
         build(resolved, Path(temp))
         problem = Problem.from_build_dir(Path(temp))

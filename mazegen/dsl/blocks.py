@@ -57,11 +57,8 @@ def _int_values(obj: Any, what: str, *, minimum: int) -> tuple[int, ...]:
 
 
 def _bnf_text(symbol: Any) -> str:
-    kind = type(symbol).__name__
-    if kind == "RuleUse":
-        return symbol.name
-    if kind == "ElementUse":
-        return symbol.name
+    if type(symbol).__name__ != "TextSymbol":
+        return symbol.name  # a rule or an element, written as is
     text = symbol.text
     if text == "":
         fail(symbol, "empty text in a grammar rule")

@@ -18,6 +18,7 @@ from mazegen.dsl.language import metamodel
 from mazegen.dsl.located import display_path, fail, suggestion, where
 from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.errors import MazeError
+from mazegen.fileio import read_text
 from mazegen.spec import Spec
 
 LIBRARY_DIR = Path(__file__).resolve().parent.parent / "library"
@@ -53,12 +54,7 @@ def parse_file(path: Path) -> ParsedFile:
     """Parse one file; syntax errors become a located :class:`MazeError`."""
     path = path.resolve()
     label = display_path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise MazeError(f"cannot read spec: {error.strerror or error}", filename=label) from None
-    except UnicodeDecodeError:
-        raise MazeError("cannot read spec: not UTF-8 text", filename=label) from None
+    text = read_text(path, "spec")
     with _loading():
         try:
             model = metamodel().model_from_str(text, file_name=label)
@@ -176,13 +172,17 @@ def load_spec(path: str | os.PathLike[str]) -> Spec:
     return spec_from_files(_collect(parse_file(_existing(path))))
 
 
-def check_file(path: str | os.PathLike[str]) -> None:
-    """Check a spec or a library file (a file without a scenario is a library)."""
-    files = _collect(parse_file(_existing(path)))
+def _check_files(files: list[ParsedFile]) -> None:
+    """Check a spec, or a library when the main file declares no scenario."""
     if any(type(d).__name__ == "ScenarioDecl" for d in files[0].model.declarations):
         spec_from_files(files)
     else:
         check_library(files)
+
+
+def check_file(path: str | os.PathLike[str]) -> None:
+    """Check a spec or a library file (a file without a scenario is a library)."""
+    _check_files(_collect(parse_file(_existing(path))))
 
 
 def _files_of_model(model: Any) -> list[ParsedFile]:
@@ -193,11 +193,7 @@ def _files_of_model(model: Any) -> list[ParsedFile]:
 def check_model(model: Any) -> None:
     """Check an already parsed main model (used by the textX model processor)."""
     with _loading():
-        files = _files_of_model(model)
-        if any(type(d).__name__ == "ScenarioDecl" for d in model.declarations):
-            spec_from_files(files)
-        else:
-            check_library(files)
+        _check_files(_files_of_model(model))
 
 
 def spec_from_model(model: Any) -> Spec:

@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from mazegen.errors import MazeError
+from mazegen.fileio import read_text
 
 _SCAN = re.compile(
     r"(?P<head><[^>|\s]+>)\s*::="
@@ -169,7 +170,7 @@ def read_bnf(path: str | Path) -> Grammar:
         The grammar.
     """
     path = Path(path)
-    return parse_bnf(path.read_text(encoding="utf-8"), filename=str(path))
+    return parse_bnf(read_text(path, "grammar"), filename=str(path))
 
 
 def _add_alternative(

@@ -24,10 +24,11 @@ from mazegen.runtime.evolution import RunResult, evolve
 from mazegen.runtime.mapping import phenotype
 from mazegen.runtime.operators import ranking
 from mazegen.runtime.problem import Problem
-from mazegen.runtime.progress import QuietReporter, Reporter, RichReporter
+from mazegen.runtime.progress import QuietReporter, Reporter, reporter_for
 from mazegen.runtime.render import scenario_svg
 from mazegen.runtime.results import json_text, npz_bytes, staged_directory, stats_csv
 from mazegen.runtime.scenario import dumps, scenario_document
+from mazegen.spec import Spec
 
 OVERRIDE_MINIMUM = {"seed": 0, "runs": 1, "population": 1, "generations": 0}
 BUILD_FILES = ("spec.json", "grammar.bnf", "fitness.py", "experiment.py")
@@ -47,34 +48,39 @@ def best_documents(
 ) -> tuple[dict[str, Any], ...]:
     """The ``count`` best distinct valid scenarios of a final population, best first."""
     spec, settings = problem.spec, problem.spec.evolution
+    ranked = ranking(result.fitness)
+    ranked = ranked[np.isfinite(result.fitness[ranked])]
     documents: list[dict[str, Any]] = []
     seen: set[str] = set()
-    for index in ranking(result.fitness):
-        if len(documents) == count or not np.isfinite(result.fitness[index]):
-            break
-        codons, genes = result.codons[index : index + 1], result.genes[index : index + 1]
+    # Candidates are evaluated a batch at a time; most batches hold enough distinct scenarios.
+    batch = max(4 * count, 64)
+    for start in range(0, ranked.size, batch):
+        chosen = ranked[start : start + batch]
+        codons, genes = result.codons[chosen], result.genes[chosen]
         evaluation = problem.evaluate(codons, genes)
-        terms = {key: float(values[0]) for key, values in evaluation.terms.items()}
-        document = scenario_document(
-            spec,
-            evaluation.population,
-            0,
-            phenotype=phenotype(
-                problem.grammar, codons[0].tolist(), wraps=settings.wraps, consume=settings.consume
-            ),
-            fitness=float(evaluation.fitness[0]),
-            terms=terms,
-            origin={
-                **origin,
-                "rank": len(documents) + 1,
-                "codons": codons[0].tolist(),
-                "placement": genes[0].tolist(),
-            },
-        )
-        key = json.dumps(document["elements"])
-        if key not in seen:
-            seen.add(key)
-            documents.append(document)
+        for row in range(chosen.size):
+            document = scenario_document(
+                spec,
+                evaluation.population,
+                row,
+                phenotype=phenotype(
+                    problem.grammar, codons[row].tolist(), wraps=settings.wraps, consume=settings.consume
+                ),
+                fitness=float(evaluation.fitness[row]),
+                terms={key: float(values[row]) for key, values in evaluation.terms.items()},
+                origin={
+                    **origin,
+                    "rank": len(documents) + 1,
+                    "codons": codons[row].tolist(),
+                    "placement": genes[row].tolist(),
+                },
+            )
+            key = json.dumps(document["elements"])
+            if key not in seen:
+                seen.add(key)
+                documents.append(document)
+                if len(documents) == count:
+                    return tuple(documents)
     return tuple(documents)
 
 
@@ -117,7 +123,6 @@ class Experiment:
             result = evolve(
                 problem, settings, np.random.default_rng(child), on_generation=reporter.generation
             )
-            reporter.end_run()
             results.append(result)
             origin = {"seed": settings.seed, "run": number, "generation": settings.generations}
             bests.append(best_documents(problem, result, count=settings.best, origin=origin))
@@ -173,6 +178,11 @@ class Experiment:
                 )
 
 
+def default_run_dir(spec: Spec) -> Path:
+    """Where a run is written unless told otherwise: ``runs/<scenario>-seed<seed>``."""
+    return Path("runs") / f"{spec.name}-seed{spec.evolution.seed}"
+
+
 def summary_lines(outcome: ExperimentResult) -> list[str]:
     """One line per run: best fitness and its phenotype."""
     lines = []
@@ -199,19 +209,18 @@ def main(build_dir: Path, argv: list[str] | None = None) -> int:
     parser.add_argument("--force", action="store_true", help="replace an existing run directory")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
+    reporter = reporter_for(quiet=args.quiet)
     try:
         experiment = Experiment.from_build_dir(build_dir).with_settings(
             seed=args.seed, runs=args.runs, population=args.population, generations=args.generations
         )
-        settings = experiment.problem.spec.evolution
-        out = args.out or Path("runs") / f"{experiment.problem.spec.name}-seed{settings.seed}"
-        reporter = QuietReporter() if args.quiet else RichReporter()
+        out = args.out or default_run_dir(experiment.problem.spec)
         outcome = experiment.run(out_dir=out, force=args.force, reporter=reporter)
-        if isinstance(reporter, RichReporter):
-            reporter.close()
     except MazeError as error:
-        print(f"error: {error}", file=sys.stderr)
+        print(error, file=sys.stderr)
         return 1
+    finally:
+        reporter.close()
     for line in summary_lines(outcome):
         print(line)
     print(f"wrote {out}")

@@ -184,18 +184,14 @@ def world_parts(table: ElementTable, element_id: int, param_row: Sequence[float]
     wv = np.empty((1, n_p, n_v, 2))
     pbox = np.empty((1, n_p, 4))
     ebox = np.empty((1, 4))
-    x, y, sx, sy, theta = (float(v) for v in param_row)
+    row = np.asarray(param_row, dtype=np.float64)
     _world_element(
         table.n_parts,
         table.n_vertices,
         table.unit,
         table.offset,
         int(element_id),
-        x,
-        y,
-        sx,
-        sy,
-        theta,
+        row,
         wv,
         pbox,
         ebox,
@@ -303,9 +299,13 @@ def _reach(unit_radius, offset_radius, e, sx, sy):
 
 
 @njit(cache=True, inline="always")
-def _world_element(n_parts, n_vertices, unit, offset, e, x, y, sx, sy, theta, wv, pbox, ebox, k):
-    """Write element ``e``'s world vertices, part boxes and box to ``wv[k]``, ``pbox[k]``, ``ebox[k]``."""
-    s, c = _sincos(theta)
+def _world_element(n_parts, n_vertices, unit, offset, e, row, wv, pbox, ebox, k):
+    """Write element ``e``'s world vertices, part boxes and box to ``wv[k]``, ``pbox[k]``, ``ebox[k]``.
+
+    ``row`` holds the element's x, y, sx, sy and rotation (radians).
+    """
+    x, y, sx, sy = row[0], row[1], row[2], row[3]
+    s, c = _sincos(row[4])
     exmin = np.inf
     eymin = np.inf
     exmax = -np.inf
@@ -435,11 +435,7 @@ def _overlap_kernel(
                             unit,
                             offset,
                             ids[i, k],
-                            params[i, k, 0],
-                            params[i, k, 1],
-                            params[i, k, 2],
-                            params[i, k, 3],
-                            params[i, k, 4],
+                            params[i, k],
                             wv,
                             pbox,
                             ebox,
@@ -467,11 +463,7 @@ def _bounds_kernel(n_parts, n_vertices, unit, offset, ids, n_el, params, n_block
                     unit,
                     offset,
                     ids[i, k],
-                    params[i, k, 0],
-                    params[i, k, 1],
-                    params[i, k, 2],
-                    params[i, k, 3],
-                    params[i, k, 4],
+                    params[i, k],
                     wv,
                     pbox,
                     out[i],
@@ -514,11 +506,7 @@ def _outside_kernel(
                     unit,
                     offset,
                     ids[i, k],
-                    x,
-                    y,
-                    params[i, k, 2],
-                    params[i, k, 3],
-                    params[i, k, 4],
+                    params[i, k],
                     wv,
                     pbox,
                     ebox,

@@ -31,6 +31,25 @@ class Evaluation:
     mapped: PopulationMap
 
 
+def read_build_spec(build_dir: Path) -> Spec:
+    """The ``spec.json`` of a build directory, with a one-line error when missing or damaged."""
+    spec_path = build_dir / "spec.json"
+    if not spec_path.is_file():
+        raise MazeError(
+            "not a .maze file nor a MazeGen build directory (no spec.json)", filename=str(build_dir)
+        )
+    try:
+        return Spec.from_json(spec_path.read_text(encoding="utf-8"))
+    except (
+        ValueError,
+        KeyError,
+        TypeError,
+    ) as error:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
+        raise MazeError(
+            f"damaged spec.json ({type(error).__name__}: {error})", filename=str(spec_path)
+        ) from None
+
+
 def _load_fitness(path: Path) -> ModuleType:
     module_name = f"mazegen_fitness_{abs(hash(str(path)))}"
     loader_spec = importlib.util.spec_from_file_location(module_name, path)
@@ -68,10 +87,7 @@ class Problem:
     @classmethod
     def from_build_dir(cls, build_dir: Path) -> Problem:
         """Load ``spec.json``, ``grammar.bnf`` and ``fitness.py`` from a build directory."""
-        spec_path = build_dir / "spec.json"
-        if not spec_path.is_file():
-            raise MazeError("not a MazeGen build directory (no spec.json)", filename=str(build_dir))
-        spec = Spec.from_json(spec_path.read_text(encoding="utf-8"))
+        spec = read_build_spec(build_dir)
         grammar = read_bnf(build_dir / "grammar.bnf")
         types = spec.scenario_elements
         return cls(

@@ -15,7 +15,12 @@ class Reporter(Protocol):
 
     def start_run(self, run: int, runs: int, generations: int) -> None: ...
     def generation(self, stats: GenerationStats) -> None: ...
-    def end_run(self) -> None: ...
+    def close(self) -> None: ...
+
+
+def reporter_for(*, quiet: bool) -> Reporter:
+    """The reporter a command line asks for."""
+    return QuietReporter() if quiet else RichReporter()
 
 
 class QuietReporter:
@@ -27,7 +32,7 @@ class QuietReporter:
     def generation(self, stats: GenerationStats) -> None:
         """Ignore."""
 
-    def end_run(self) -> None:
+    def close(self) -> None:
         """Ignore."""
 
 
@@ -57,9 +62,6 @@ class RichReporter:
         best = "-" if stats.best != stats.best else f"{stats.best:g}"
         if self._task is not None:
             self._progress.update(self._task, advance=1, best=best)
-
-    def end_run(self) -> None:
-        """Stop drawing after the last run."""
 
     def close(self) -> None:
         """Stop the live display."""

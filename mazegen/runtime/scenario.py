@@ -10,12 +10,14 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.runtime.geometry import world_parts
+from mazegen.fileio import read_text
+from mazegen.runtime.geometry import ElementTable, world_parts
 from mazegen.runtime.population import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.spec import Spec
 
@@ -106,8 +108,10 @@ def _number(item: dict[str, Any], key: str, where: str) -> float:
     return float(value)
 
 
-def read_document(text: str, filename: str) -> dict[str, Any]:
-    """Parse a scenario file, with a located error for bad JSON or a wrong format."""
+def read_document(path: Path) -> dict[str, Any]:
+    """Read a scenario file, with a located error for bad JSON or a wrong format."""
+    filename = str(path)
+    text = read_text(path, "scenario")
     try:
         document = json.loads(text)
     except json.JSONDecodeError as error:
@@ -126,7 +130,9 @@ def read_document(text: str, filename: str) -> dict[str, Any]:
     return document
 
 
-def population_from_document(spec: Spec, table: Any, document: dict[str, Any], filename: str) -> Population:
+def population_from_document(
+    spec: Spec, table: ElementTable, document: dict[str, Any], filename: str
+) -> Population:
     """A one-individual :class:`Population` from a scenario document, checked against ``spec``."""
     names = list(spec.scenario.elements)
     elements = document["elements"]
@@ -161,8 +167,6 @@ def population_from_document(spec: Spec, table: Any, document: dict[str, Any], f
 
 def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> dict[str, Any]:
     """A document with the spec's arena and every element's parts recomputed (hand-written floors)."""
-    from mazegen.runtime.geometry import ElementTable
-
     population = population_from_document(
         spec, ElementTable.from_types(spec.scenario_elements), document, filename
     )

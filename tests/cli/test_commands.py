@@ -240,3 +240,30 @@ def test_render_a_hand_drawn_floor_with_its_spec(tmp_path):
     )
     assert done.exit_code == 0, done.output
     assert (tmp_path / "a.svg").read_text().count("<polygon") == 1
+
+
+def test_unreadable_inputs_give_one_line_errors(tmp_path):
+    binary = tmp_path / "floor.json"
+    binary.write_bytes(b"\xff\xfe\x00")
+    for args in (
+        ("score", str(EXAMPLES / "factory.maze"), str(binary)),
+        ("render", str(binary), "-o", "x.svg"),
+        ("map", str(binary), "1"),
+    ):
+        result = invoke(*args)
+        assert result.exit_code == 1
+        assert result.stderr.strip().endswith(
+            "floor.json: cannot read " + ("grammar" if args[0] == "map" else "scenario") + ": not UTF-8 text"
+        )
+
+
+def test_run_a_build_dir_names_the_run_by_the_seed_used(tmp_path, monkeypatch):
+    build = tmp_path / "build"
+    invoke("build", str(EXAMPLES / "factory.maze"), "-o", str(build))
+    monkeypatch.chdir(tmp_path)
+    result = invoke("run", str(build), "--seed", "7", "--population", "30", "--generations", "1", "-q")
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "runs" / "factory-seed7" / "stats.csv").is_file()
+    (build / "spec.json").write_text("{broken")
+    damaged = invoke("run", str(build), "-q")
+    assert damaged.exit_code == 1 and "spec.json: damaged spec.json" in damaged.stderr
