@@ -10,8 +10,13 @@ import numpy as np
 
 from mazegen.runtime import operators as ops
 from mazegen.runtime.cache import EvaluationCache, genome_hashes
-from mazegen.runtime.problem import Problem
+from mazegen.runtime.problem import Problem, Workspace
 from mazegen.spec import Evolution
+
+
+EVALUATION_CHUNK = 8192
+"""Genomes evaluated per call: bounds the memory of the mapping and placement arrays
+(which grow with the element slots) whatever the population, and keeps them in cache."""
 
 
 @dataclass(frozen=True)
@@ -40,9 +45,13 @@ class RunResult:
 
 
 def evaluate_cached(
-    problem: Problem, codons: np.ndarray, genes: np.ndarray, cache: EvaluationCache
+    problem: Problem,
+    codons: np.ndarray,
+    genes: np.ndarray,
+    cache: EvaluationCache,
+    workspace: Workspace | None = None,
 ) -> tuple[np.ndarray, int, int]:
-    """Fitness of a generation, evaluating each distinct unseen genome once.
+    """Fitness of a generation, evaluating each distinct unseen genome once (into ``workspace``).
 
     Returns:
         fitness per individual, number of genomes evaluated, number of distinct genomes.
@@ -52,25 +61,48 @@ def evaluate_cached(
     found, cached = cache.lookup(unique)
     fitness_unique = np.where(found, cached, 0.0)
     todo = first[~found]
-    if todo.size:
-        fitness_unique[~found] = problem.evaluate(codons[todo], genes[todo]).fitness
+    computed = np.empty(todo.size)
+    for start in range(0, todo.size, EVALUATION_CHUNK):
+        rows = todo[start : start + EVALUATION_CHUNK]
+        computed[start : start + rows.size] = problem.evaluate(codons[rows], genes[rows], workspace).fitness
+    fitness_unique[~found] = computed
     cache.remember(unique, fitness_unique)
     return fitness_unique[inverse.reshape(-1)], int(todo.size), int(unique.size)
 
 
 def breed(
-    rng: np.random.Generator, codons: np.ndarray, genes: np.ndarray, fitness: np.ndarray, settings: Evolution
-) -> tuple[np.ndarray, np.ndarray]:
-    """The next generation: elites unchanged, then selected, crossed and mutated children."""
-    elites = ops.ranking(fitness)[: settings.elitism]
+    rng: np.random.Generator,
+    codons: np.ndarray,
+    genes: np.ndarray,
+    fitness: np.ndarray,
+    settings: Evolution,
+    out: tuple[np.ndarray, np.ndarray],
+) -> None:
+    """Write the next generation into ``out``: elites unchanged, then selected, crossed and mutated children.
+
+    Args:
+        rng: The run's random generator.
+        codons: This generation's structure codons.
+        genes: This generation's placement genes.
+        fitness: This generation's fitness.
+        settings: Selection, crossover and mutation settings.
+        out: Codon and gene arrays shaped like ``codons`` and ``genes``, overwritten.
+    """
+    out_codons, out_genes = out
+    elites = ops.ranking(fitness, settings.elitism)
     count = fitness.shape[0] - elites.size
     if settings.selection == "tournament":
         parents = ops.tournament_parents(rng, fitness, settings.tournament, count)
     else:
         parents = ops.truncation_parents(rng, fitness, settings.truncation, count)
-    children = ops.one_point_crossover(rng, codons[parents], genes[parents], settings.crossover)
-    child_codons, child_genes = ops.int_flip_mutation(rng, *children, settings.mutation, settings.codon_max)
-    return np.concatenate([codons[elites], child_codons]), np.concatenate([genes[elites], child_genes])
+    length, slots = codons.shape[1], genes.shape[1]
+    crossover = ops.crossover_draws(rng, count, length, slots, settings.crossover)
+    mutation = ops.mutation_draws(rng, count, length, slots, settings.mutation, settings.codon_max)
+    out_codons[: elites.size] = codons[elites]
+    out_genes[: elites.size] = genes[elites]
+    ops.make_children(
+        codons, genes, parents, crossover, mutation, out_codons[elites.size :], out_genes[elites.size :]
+    )
 
 
 def _summary(
@@ -113,18 +145,20 @@ def evolve(
     codons = ops.random_codons(rng, settings.population, settings.genome, settings.codon_max)
     genes = ops.random_genes(rng, settings.population, problem.slots)
     cache = EvaluationCache()
+    workspace = Workspace()
     stats: list[GenerationStats] = []
+    spare = (np.empty_like(codons), np.empty_like(genes))  # the next generation is bred into these
     for generation in range(settings.generations + 1):
         started = perf_counter()
-        fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache)
+        fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache, workspace)
         last = generation == settings.generations
         if not last:
-            next_codons, next_genes = breed(rng, codons, genes, fitness, settings)
+            breed(rng, codons, genes, fitness, settings, spare)
         row = _summary(generation, fitness, evaluations, unique, perf_counter() - started)
         stats.append(row)
         if on_generation is not None:
             on_generation(row)
         if last:
             break
-        codons, genes = next_codons, next_genes
+        spare, (codons, genes) = (codons, genes), spare
     return RunResult(codons, genes, fitness, tuple(stats))

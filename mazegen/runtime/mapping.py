@@ -78,6 +78,11 @@ class CompiledGrammar:
     ``chars[term_chars[t]:term_chars[t + 1]]`` (other characters are 0).
     ``trie[node, code]`` is the next node of the element-name trie (-1 none) and
     ``trie_element[node]`` the element a name ending there denotes (-1 none).
+
+    Terminals without digits, ``-`` or ``.`` are also tokenised once, here: read
+    from the idle state, terminal ``t`` emits the elements
+    ``emits[term_emits[t]:term_emits[t + 1]]`` and leaves the tokeniser in
+    ``term_end_mode[t]``, ``term_end_node[t]``; ``term_fast[t]`` marks them.
     """
 
     element_names: tuple[str, ...]
@@ -91,6 +96,11 @@ class CompiledGrammar:
     chars: np.ndarray
     trie: np.ndarray
     trie_element: np.ndarray
+    term_fast: np.ndarray
+    term_emits: np.ndarray
+    emits: np.ndarray
+    term_end_mode: np.ndarray
+    term_end_node: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -104,7 +114,8 @@ class PopulationMap:
         element_ids: ``int32[N, max_elements]``, indices into the element
             names, -1 padded.
         numbers: ``float64[N, max_elements, 4]``: the numbers that follow each
-            element in the phenotype (the first four), NaN padded.
+            element in the phenotype (the first four), NaN padded; ``[N, 0, 4]``
+            when the numbers were not asked for.
     """
 
     valid: np.ndarray
@@ -253,6 +264,15 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
                 trie_element.append(-1)
             node = trie[node][ord(c)]
         trie_element[node] = element
+    fast, emit_offsets, emitted, end_modes, end_nodes = [], [0], [], [], []
+    for text in terminals:
+        scan = _scan_from_idle(text, trie, trie_element)
+        fast.append(scan is not None)
+        elements, end_mode, end_node = scan or ([], _IDLE, 0)
+        emitted += elements
+        emit_offsets.append(len(emitted))
+        end_modes.append(end_mode)
+        end_nodes.append(end_node)
     i32 = np.int32
     return CompiledGrammar(
         element_names=tuple(element_names),
@@ -266,7 +286,35 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
         chars=np.array(chars, np.uint8),
         trie=np.array(trie, i32),
         trie_element=np.array(trie_element, i32),
+        term_fast=np.array(fast, np.bool_),
+        term_emits=np.array(emit_offsets, i32),
+        emits=np.array(emitted, i32),
+        term_end_mode=np.array(end_modes, i32),
+        term_end_node=np.array(end_nodes, i32),
     )
+
+
+def _scan_from_idle(
+    text: str, trie: list[list[int]], trie_element: list[int]
+) -> tuple[list[int], int, int] | None:
+    """Tokenise a terminal from the idle state as the kernel would; ``None`` if it holds number characters.
+
+    Returns:
+        The elements completed inside the terminal, and the tokeniser's final mode and trie node.
+    """
+    codes = [ord(c) if ord(c) < 128 else 0 for c in text]
+    if any(_CLASSES[code] in (_DIGIT, _MINUS, _DOT) for code in codes):
+        return None
+    mode, node, elements = _IDLE, 0, []
+    for code in codes:
+        letter = _CLASSES[code] == _LETTER
+        if mode == _NAME and letter:
+            node = trie[node][code] if node >= 0 else -1
+            continue
+        if mode == _NAME and node >= 0 and trie_element[node] >= 0:
+            elements.append(trie_element[node])
+        mode, node = (_NAME, trie[0][code]) if letter else (_IDLE, 0)
+    return elements, mode, node
 
 
 def map_population(
@@ -277,6 +325,7 @@ def map_population(
     consume: str = "eager",
     max_elements: int,
     max_depth: int = 90,
+    numbers: bool = True,
     out: PopulationMap | None = None,
 ) -> PopulationMap:
     """Map every row of ``codons`` and extract its elements, in parallel.
@@ -293,6 +342,8 @@ def map_population(
         consume: As :func:`map_genome`.
         max_elements: Element slots; an individual deriving more is invalid.
         max_depth: As :func:`map_genome`.
+        numbers: Extract the numbers after each element; without them (grammars that
+            carry no placement) ``numbers`` is empty and costs no memory.
         out: Arrays to overwrite instead of allocating new ones (same shapes and
             dtypes as the result), e.g. to spare fresh memory every generation.
 
@@ -309,7 +360,7 @@ def map_population(
         ((n,), np.int32),
         ((n,), np.int32),
         ((n, max_elements), np.int32),
-        ((n, max_elements, NUMBERS_PER_ELEMENT), np.float64),
+        ((n, max_elements if numbers else 0, NUMBERS_PER_ELEMENT), np.float64),
     ]
     result = out or PopulationMap(*(np.empty(shape, dtype) for shape, dtype in layout))
     arrays = (result.valid, result.used_codons, result.n_elements, result.element_ids, result.numbers)
@@ -330,6 +381,11 @@ def map_population(
         c.trie,
         c.trie_element,
         _CLASSES,
+        c.term_fast,
+        c.term_emits,
+        c.emits,
+        c.term_end_mode,
+        c.term_end_node,
     )
     options = (
         min(n, 8 * get_num_threads()),
@@ -357,7 +413,8 @@ def _map_all(codons, grammar, options, out):  # pragma: no cover - compiled
 @njit(cache=True, inline="always")
 def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cover - compiled
     """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped."""
-    start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie, trie_element, classes = grammar
+    start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie, trie_element, classes = grammar[:10]
+    term_fast, term_emits, emits, term_end_mode, term_end_node = grammar[10:]
     lazy, pony, limit, max_depth = options[2], options[3], options[4], options[5]
     element_ids, numbers = out[3], out[4]
     n, slots = codons.shape[1], element_ids.shape[1]
@@ -369,7 +426,11 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
         sp -= 1
         symbol, depth = stack[sp], depths[sp]
         deepest = max(deepest, depth)
-        if symbol < 0:
+        if symbol < 0 and mode == _IDLE and term_fast[-1 - symbol]:
+            for q in range(term_emits[-1 - symbol], term_emits[-symbol]):
+                count, n_num = _emit(emits[q], out, i, count)
+            mode, node = term_end_mode[-1 - symbol], term_end_node[-1 - symbol]
+        elif symbol < 0:
             for p in range(term_chars[-1 - symbol], term_chars[-symbol]):
                 code = chars[p]
                 kind = classes[code]
@@ -418,6 +479,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
         ok, count = False, 0
     for e in range(count, slots):
         element_ids[i, e] = -1
+    for e in range(count, numbers.shape[1]):
         for j in range(NUMBERS_PER_ELEMENT):
             numbers[i, e, j] = np.nan
     return ok, used, count
@@ -426,15 +488,22 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
 @njit(cache=True, inline="always")
 def _finish(mode, node, value, trie_element, out, i, count, n_num):  # pragma: no cover - compiled
     """Emit the token that just ended; a ``count`` beyond the slots means overflow."""
-    element_ids, numbers = out[3], out[4]
-    slots = element_ids.shape[1]
+    numbers = out[4]
     if mode == _NAME and node >= 0 and trie_element[node] >= 0:
-        if count < slots:
-            element_ids[i, count] = trie_element[node]
-            for k in range(NUMBERS_PER_ELEMENT):
-                numbers[i, count, k] = np.nan
-        return count + 1, 0
-    if mode >= _INT and 0 < count <= slots and n_num < NUMBERS_PER_ELEMENT:
+        return _emit(trie_element[node], out, i, count)
+    if mode >= _INT and 0 < count <= numbers.shape[1] and n_num < NUMBERS_PER_ELEMENT:
         numbers[i, count - 1, n_num] = value
         return count, n_num + 1
     return count, n_num
+
+
+@njit(cache=True, inline="always")
+def _emit(element, out, i, count):  # pragma: no cover - compiled
+    """Record element number ``count`` of genome ``i`` (slots past the end only count)."""
+    element_ids, numbers = out[3], out[4]  # numbers has 0 slots when not kept
+    if count < element_ids.shape[1]:
+        element_ids[i, count] = element
+    if count < numbers.shape[1]:
+        for k in range(NUMBERS_PER_ELEMENT):
+            numbers[i, count, k] = np.nan
+    return count + 1, 0

@@ -7,6 +7,7 @@ Each function returns one float64 value per individual; invalid individuals
 from __future__ import annotations
 
 import numpy as np
+from numba import njit, prange
 
 from mazegen.runtime import geometry
 from mazegen.runtime.population import SX, SY, Population
@@ -24,15 +25,18 @@ def overlapping_pairs(pop: Population) -> np.ndarray:
     )
 
 
-def element_sizes(pop: Population) -> np.ndarray:
-    """``float64[N, K]`` size of each element slot: its longest side, 0 where empty."""
-    present = np.arange(pop.params.shape[1]) < pop.n_elements[:, None]
-    return np.where(present, np.maximum(pop.params[..., SX], pop.params[..., SY]), 0.0)
-
-
 def elements_over_size(pop: Population, limit: float) -> np.ndarray:
-    """Elements whose size exceeds ``limit`` (paper v1.5)."""
-    return (element_sizes(pop) > limit).sum(axis=1).astype(np.float64)
+    """Elements whose size, their longest side, exceeds ``limit`` (paper v1.5)."""
+    return _count_over_size(pop.params, pop.n_elements, float(limit))
+
+
+@njit(cache=True, parallel=True)
+def _count_over_size(params, n_elements, limit):  # pragma: no cover - compiled
+    out = np.zeros(n_elements.shape[0])
+    for i in prange(n_elements.shape[0]):
+        for k in range(n_elements[i]):
+            out[i] += max(params[i, k, SX], params[i, k, SY]) > limit
+    return out
 
 
 def elements_outside(pop: Population) -> np.ndarray:

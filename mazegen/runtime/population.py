@@ -141,10 +141,16 @@ def _placement_kernel(
             out[i, k, 2] = sx
             out[i, k, 3] = sy
             out[i, k, 4] = np.radians(angle)
+        out[i, n_elements[i] :] = 0.0
 
 
 def placement_params(
-    mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, arena: Arena, grammar_scale: float | None
+    mapped: PopulationMap,
+    genes: np.ndarray,
+    ranges: Ranges,
+    arena: Arena,
+    grammar_scale: float | None,
+    out: np.ndarray | None = None,
 ) -> np.ndarray:
     """Element parameters from placement genes, or from grammar numbers where present.
 
@@ -156,8 +162,12 @@ def placement_params(
         ranges: Element ranges.
         arena: Arena (positions span it).
         grammar_scale: Multiplier of grammar size numbers, or ``None`` for gene placement.
+        out: A C-contiguous ``float64[N, K, 5]`` array to overwrite instead of a new one.
     """
-    params = np.zeros((*mapped.element_ids.shape, PLACEMENT_GENES), dtype=np.float64)
+    shape = (*mapped.element_ids.shape, PLACEMENT_GENES)
+    params = np.empty(shape, dtype=np.float64) if out is None else out
+    if params.shape != shape or params.dtype != np.float64 or not params.flags.c_contiguous:
+        raise ValueError("out does not fit the population")
     _placement_kernel(
         mapped.element_ids,
         mapped.n_elements,
@@ -181,11 +191,19 @@ def placement_params(
 
 
 def decode(
-    mapped: PopulationMap, genes: np.ndarray, ranges: Ranges, table: ElementTable, spec: Spec
+    mapped: PopulationMap,
+    genes: np.ndarray,
+    ranges: Ranges,
+    table: ElementTable,
+    spec: Spec,
+    out: np.ndarray | None = None,
 ) -> Population:
-    """Turn mapped structure codons plus placement genes into a :class:`Population`."""
+    """Turn mapped structure codons plus placement genes into a :class:`Population`.
+
+    ``out`` is as in :func:`placement_params`.
+    """
     placement = spec.scenario.placement
     params = placement_params(
-        mapped, genes, ranges, spec.arena, None if placement is None else placement.scale
+        mapped, genes, ranges, spec.arena, None if placement is None else placement.scale, out
     )
     return Population(mapped.element_ids, mapped.n_elements, params, mapped.valid, table, spec.arena)

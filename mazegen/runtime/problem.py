@@ -13,8 +13,14 @@ import numpy as np
 from mazegen.errors import MazeError
 from mazegen.runtime.bnf import Grammar, read_bnf
 from mazegen.runtime.geometry import ElementTable
-from mazegen.runtime.mapping import CompiledGrammar, PopulationMap, compile_grammar, map_population
-from mazegen.runtime.population import Population, Ranges, decode
+from mazegen.runtime.mapping import (
+    NUMBERS_PER_ELEMENT,
+    CompiledGrammar,
+    PopulationMap,
+    compile_grammar,
+    map_population,
+)
+from mazegen.runtime.population import PLACEMENT_GENES, Population, Ranges, decode
 from mazegen.spec import Spec
 
 INVALID = -np.inf
@@ -72,6 +78,38 @@ def _load_fitness(path: Path) -> ModuleType:
     return module
 
 
+class Workspace:
+    """The large arrays of an evaluation, kept from one generation to the next.
+
+    A population of 50,000 with 32 slots needs tens of MB per evaluation; writing
+    into the same pages each generation spares the allocation and page faults.
+    Evaluations that use a workspace return views of it, valid until the next one.
+    """
+
+    def __init__(self) -> None:
+        self._map: PopulationMap | None = None
+        self._params = np.empty((0, 0, PLACEMENT_GENES))
+
+    def arrays(self, rows: int, slots: int, numbers: bool) -> tuple[PopulationMap, np.ndarray]:
+        """Mapping and placement arrays for ``rows`` individuals (views of the first rows)."""
+        kept = self._map
+        width = slots if numbers else 0
+        if kept is None or kept.valid.shape[0] < rows or kept.element_ids.shape[1] != slots or (
+            kept.numbers.shape[1] != width
+        ):
+            capacity = max(rows, 0 if kept is None else kept.valid.shape[0])
+            kept = self._map = PopulationMap(
+                np.empty(capacity, np.bool_),
+                np.empty(capacity, np.int32),
+                np.empty(capacity, np.int32),
+                np.empty((capacity, slots), np.int32),
+                np.empty((capacity, width, NUMBERS_PER_ELEMENT), np.float64),
+            )
+            self._params = np.empty((capacity, slots, PLACEMENT_GENES))
+        view = PopulationMap(*(array[:rows] for array in vars(kept).values()))
+        return view, self._params[:rows]
+
+
 @dataclass(frozen=True)
 class Problem:
     """Everything needed to evaluate genomes of one experiment."""
@@ -105,13 +143,25 @@ class Problem:
         """Element slots K (placement rows per genome)."""
         return self.spec.scenario.max_elements
 
-    def decode(self, codons: np.ndarray, genes: np.ndarray) -> tuple[PopulationMap, Population]:
-        """Map structure codons and decode placements."""
+    def decode(
+        self, codons: np.ndarray, genes: np.ndarray, workspace: Workspace | None = None
+    ) -> tuple[PopulationMap, Population]:
+        """Map structure codons and decode placements (into ``workspace`` when given)."""
         evolution = self.spec.evolution
-        mapped = map_population(
-            self.compiled, codons, wraps=evolution.wraps, consume=evolution.consume, max_elements=self.slots
+        numbers = self.spec.scenario.placement is not None  # only grammar placement reads them
+        out, params = (
+            (None, None) if workspace is None else workspace.arrays(codons.shape[0], self.slots, numbers)
         )
-        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec)
+        mapped = map_population(
+            self.compiled,
+            codons,
+            wraps=evolution.wraps,
+            consume=evolution.consume,
+            max_elements=self.slots,
+            numbers=numbers,
+            out=out,
+        )
+        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params)
 
     def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Fitness and per-term values of a decoded population."""
@@ -122,8 +172,10 @@ class Problem:
         bad = ~population.valid | np.asarray(self.fitness_module.rejected(population), dtype=bool)
         return np.where(bad, INVALID, total), terms
 
-    def evaluate(self, codons: np.ndarray, genes: np.ndarray) -> Evaluation:
-        """Map, decode and score a population of genomes."""
-        mapped, population = self.decode(codons, genes)
+    def evaluate(
+        self, codons: np.ndarray, genes: np.ndarray, workspace: Workspace | None = None
+    ) -> Evaluation:
+        """Map, decode and score a population of genomes (into ``workspace`` when given)."""
+        mapped, population = self.decode(codons, genes, workspace)
         fitness, terms = self.score(population)
         return Evaluation(fitness, terms, population, mapped)

@@ -258,6 +258,12 @@ def _check_kernel(
         for e, (_, values) in enumerate(found):
             numbers[e, : len(values)] = values
         assert np.array_equal(result.numbers[i], numbers, equal_nan=True), (genome, reference.phenotype)
+    without = map_population(
+        compile_grammar(grammar, elements), codons, max_elements=max_elements, numbers=False, **options
+    )
+    assert without.numbers.shape == (codons.shape[0], 0, 4)
+    for name in ("valid", "used_codons", "n_elements", "element_ids"):
+        assert np.array_equal(getattr(without, name), getattr(result, name)), name
 
 
 @pytest.mark.parametrize("name", sorted(CASES))

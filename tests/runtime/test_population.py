@@ -97,3 +97,20 @@ def test_placement_kernel_equals_numpy_reference(example, tmp_path):
     assert np.array_equal(
         placement_params(mapped, genes, problem.ranges, problem.spec.arena, scale), expected
     )
+    stale = np.full_like(expected, 7.0)  # a reused array: every slot is overwritten, padding zeroed
+    placement_params(mapped, genes, problem.ranges, problem.spec.arena, scale, stale)
+    assert np.array_equal(stale, expected)
+
+
+@pytest.mark.parametrize("limit", [0.0, 100.0, 500.0, 1e9])
+def test_size_limit_kernel_equals_numpy_reference(limit, tmp_path):
+    problem = problem_of(EXAMPLES / "table1" / "exp8.maze", tmp_path)
+    rng = np.random.default_rng(4)
+    codons = rng.integers(0, 256, size=(2000, problem.spec.evolution.genome), dtype=np.int32)
+    genes = rng.integers(0, GENE_MAX + 1, size=(2000, problem.slots, 5), dtype=np.uint16)
+    _, population = problem.decode(codons, genes)
+    params = population.params
+    present = np.arange(params.shape[1])[None, :] < population.n_elements[:, None]
+    expected = (present & (np.maximum(params[..., 2], params[..., 3]) > limit)).sum(axis=1)
+    assert metrics.elements_over_size(population, limit).tolist() == expected.astype(float).tolist()
+    assert 0 < expected.sum() < present.sum() or limit in (0.0, 1e9)
