@@ -46,9 +46,7 @@ def run_json(script: str, *args: str) -> dict:
 
     A fresh process gives a measurement its own peak RSS and its own start-up.
     """
-    done = subprocess.run(
-        [sys.executable, str(script), *args], capture_output=True, text=True, check=False
-    )
+    done = subprocess.run([sys.executable, str(script), *args], capture_output=True, text=True, check=False)
     if done.returncode != 0:
         raise SystemExit(f"{script} {' '.join(args)} failed:\n{done.stderr}")
     return json.loads(done.stdout.splitlines()[-1])

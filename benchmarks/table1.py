@@ -13,14 +13,12 @@ from __future__ import annotations
 import argparse
 import csv
 import json
-import resource
 import statistics
-import subprocess
-import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+from common import BENCHMARKS, ROOT, markdown_table, peak_rss_mb, run_json, write_csv
+
 PAPER = ROOT.parent / "shared" / "anchors" / "mazegen-results"
 # experiment -> (BNF_Version, Population, Fitnes_Function) in the paper's CSV
 PAPER_KEYS = {
@@ -47,6 +45,7 @@ def run_one(number: int, runs: int) -> dict:
     bests = [float(r.fitness[r.fitness > float("-inf")].max()) for r in result.runs]
     evaluations = sum(sum(row.evaluations for row in r.stats) for r in result.runs)
     individuals = runs * spec.evolution.population * (spec.evolution.generations + 1)
+    means = [float(r.fitness[r.fitness > float("-inf")].mean()) for r in result.runs]
     return {
         "experiment": number,
         "population": spec.evolution.population,
@@ -56,9 +55,11 @@ def run_one(number: int, runs: int) -> dict:
         "seconds_per_run": seconds / runs,
         "individuals_per_s": individuals / seconds,
         "evaluations": evaluations,
-        "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+        "evaluations_per_s": evaluations / seconds,
+        "peak_rss_mb": peak_rss_mb(),
         "best_max": max(bests),
         "best_mean": statistics.mean(bests),
+        "final_mean": statistics.mean(means),
     }
 
 
@@ -87,45 +88,44 @@ def paper_figures() -> dict[int, dict]:
     return figures
 
 
+COLUMNS = [
+    ("experiment", "exp", "d"),
+    ("population", "population", ","),
+    ("generations", "generations", "d"),
+    ("runs", "runs", "d"),
+    ("seconds", "total s", ".1f"),
+    ("seconds_per_run", "s/run", ".2f"),
+    ("individuals_per_s", "individuals/s", ",.0f"),
+    ("evaluations_per_s", "evaluations/s", ",.0f"),
+    ("peak_rss_mb", "peak RSS MB", ".0f"),
+    ("best_max", "best (max of runs)", "g"),
+    ("best_mean", "best (mean of runs)", ".2f"),
+    ("final_mean", "mean fitness (last gen.)", ".2f"),
+    ("paper_best_mean", "paper: mean best", ".2f"),
+    ("paper_minutes", "paper: minutes", "g"),
+]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--experiments", type=int, nargs="+", default=list(range(1, 9)))
     parser.add_argument("--runs", type=int, default=15)
-    parser.add_argument("--csv", type=Path, default=ROOT / "benchmarks" / "table1.csv")
+    parser.add_argument("--csv", type=Path, default=BENCHMARKS / "table1.csv")
     parser.add_argument("--single", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.single:
         print(json.dumps(run_one(args.single, args.runs)))
         return
     paper = paper_figures()
-    rows = []
-    for number in args.experiments:
-        done = subprocess.run(
-            [sys.executable, __file__, "--single", str(number), "--runs", str(args.runs)],
-            capture_output=True,
-            text=True,
-            check=True,
-        )
-        rows.append({**json.loads(done.stdout.splitlines()[-1]), **paper.get(number, {})})
-    print(
-        "| exp | population × generations | runs | total s | s/run | individuals/s | peak RSS MB "
-        "| best (max / mean of runs) | paper: mean best | paper: minutes |"
-    )
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    for r in rows:
-        paper_best = "—" if r.get("paper_best_mean") is None else f"{r['paper_best_mean']:.2f}"
-        paper_minutes = "—" if r.get("paper_minutes") is None else f"{r['paper_minutes']:g}"
-        print(
-            f"| {r['experiment']} | {r['population']:,} × {r['generations']} | {r['runs']} "
-            f"| {r['seconds']:.1f} | {r['seconds_per_run']:.2f} | {r['individuals_per_s']:,.0f} "
-            f"| {r['peak_rss_mb']:.0f} "
-            f"| {r['best_max']:g} / {r['best_mean']:.2f} | {paper_best} | {paper_minutes} |"
-        )
-    print(f"\ntotal: {sum(r['seconds'] for r in rows):.1f} s")
-    with open(args.csv, "w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    rows = [
+        {**run_json(__file__, "--single", str(number), "--runs", str(args.runs)), **paper.get(number, {})}
+        for number in args.experiments
+    ]
+    print(markdown_table(rows, COLUMNS))
+    total = sum(r["seconds"] for r in rows)
+    evaluations = sum(r["evaluations"] for r in rows)
+    print(f"\ntotal: {total:.1f} s, {evaluations:,} evaluations ({evaluations / total:,.0f}/s)")
+    write_csv(args.csv, rows)
 
 
 if __name__ == "__main__":

@@ -33,9 +33,12 @@ def load(path: str | os.PathLike[str]) -> Spec:
     return load_spec(path)
 
 
-def build(spec: Spec, out_dir: str | os.PathLike[str]) -> list[Path]:
-    """Generate grammar.bnf, fitness.py, experiment.py and spec.json into ``out_dir``."""
-    return build_files(spec, Path(out_dir))
+def build(spec: Spec | str | os.PathLike[str], out_dir: str | os.PathLike[str]) -> list[Path]:
+    """Generate grammar.bnf, fitness.py, experiment.py and spec.json into ``out_dir``.
+
+    ``spec`` is a :class:`Spec` or the path of a ``.maze`` file.
+    """
+    return build_files(spec if isinstance(spec, Spec) else load_spec(spec), Path(out_dir))
 
 
 def run(

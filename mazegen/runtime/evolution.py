@@ -11,6 +11,7 @@ import numpy as np
 from mazegen.runtime import operators as ops
 from mazegen.runtime.cache import EvaluationCache, genome_hashes
 from mazegen.runtime.problem import Problem, Workspace
+from mazegen.runtime.threads import threads_for
 from mazegen.spec import Evolution
 
 
@@ -142,6 +143,16 @@ def evolve(
         rng: The run's only source of randomness.
         on_generation: Called with each generation's statistics (progress reporting).
     """
+    with threads_for(settings.population):
+        return _evolve(problem, settings, rng, on_generation)
+
+
+def _evolve(
+    problem: Problem,
+    settings: Evolution,
+    rng: np.random.Generator,
+    on_generation: Callable[[GenerationStats], None] | None,
+) -> RunResult:
     codons = ops.random_codons(rng, settings.population, settings.genome, settings.codon_max)
     genes = ops.random_genes(rng, settings.population, problem.slots)
     cache = EvaluationCache()

@@ -50,6 +50,7 @@ _CLASSES[[ord(c) for c in "0123456789"]] = _DIGIT
 _CLASSES[ord("-")], _CLASSES[ord(".")] = _MINUS, _DOT
 # Tokeniser states.
 _IDLE, _NAME, _SIGN, _INT, _POINT, _FRACTION = range(6)
+_CHOICE_CODONS = 256  # codons with a precomputed alternative per rule (the usual 0..255)
 
 
 @dataclass(frozen=True)
@@ -83,6 +84,8 @@ class CompiledGrammar:
     from the idle state, terminal ``t`` emits the elements
     ``emits[term_emits[t]:term_emits[t + 1]]`` and leaves the tokeniser in
     ``term_end_mode[t]``, ``term_end_node[t]``; ``term_fast[t]`` marks them.
+    ``choice[r, c]`` is ``c % alternatives`` of rule ``r`` for codons ``c`` below
+    256, a table lookup instead of an integer division per derivation step.
     """
 
     element_names: tuple[str, ...]
@@ -101,6 +104,7 @@ class CompiledGrammar:
     emits: np.ndarray
     term_end_mode: np.ndarray
     term_end_node: np.ndarray
+    choice: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -291,6 +295,7 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
         emits=np.array(emitted, i32),
         term_end_mode=np.array(end_modes, i32),
         term_end_node=np.array(end_nodes, i32),
+        choice=np.arange(_CHOICE_CODONS)[None, :] % np.diff(rule_alts)[:, None].astype(i32),
     )
 
 
@@ -386,6 +391,7 @@ def map_population(
         c.emits,
         c.term_end_mode,
         c.term_end_node,
+        c.choice,
     )
     options = (
         min(n, 8 * get_num_threads()),
@@ -414,7 +420,7 @@ def _map_all(codons, grammar, options, out):  # pragma: no cover - compiled
 def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cover - compiled
     """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped."""
     start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie, trie_element, classes = grammar[:10]
-    term_fast, term_emits, emits, term_end_mode, term_end_node = grammar[10:]
+    term_fast, term_emits, emits, term_end_mode, term_end_node, choice = grammar[10:]
     lazy, pony, limit, max_depth = options[2], options[3], options[4], options[5]
     element_ids, numbers = out[3], out[4]
     n, slots = codons.shape[1], element_ids.shape[1]
@@ -463,7 +469,8 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
                 sp += 1  # left unexpanded: invalid
                 break
             else:
-                chosen = first + np.int64(codons[i, pos]) % k
+                codon = np.int64(codons[i, pos])
+                chosen = first + (choice[symbol, codon] if 0 <= codon < _CHOICE_CODONS else codon % k)
                 used += 1
                 pos = 0 if pos + 1 == n else pos + 1
             for j in range(alt_symbols[chosen + 1] - 1, alt_symbols[chosen] - 1, -1):

@@ -8,7 +8,9 @@ from genomes (:func:`decode`) or from scenario files, and the metric kernels of
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property, partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -36,7 +38,8 @@ class Population:
     Attributes:
         element_ids: ``int32[N, K]`` element type ids (index in the scenario's list), -1 padding.
         n_elements: ``int32[N]`` number of elements (0 for invalid individuals).
-        params: ``float64[N, K, 5]`` x, y, sx, sy and rotation (radians) of each element.
+        placement: Computes :attr:`params`, once, when a metric first reads them
+            (a fitness of counts alone never places anything).
         valid: ``bool[N]`` whether the genome mapped to a complete scenario.
         table: Geometry of the element types.
         arena: The floor the scenarios are placed on.
@@ -44,10 +47,15 @@ class Population:
 
     element_ids: np.ndarray
     n_elements: np.ndarray
-    params: np.ndarray
+    placement: Callable[[], np.ndarray]
     valid: np.ndarray
     table: ElementTable
     arena: Arena
+
+    @cached_property
+    def params(self) -> np.ndarray:
+        """``float64[N, K, 5]`` x, y, sx, sy and rotation (radians) of each element, 0 past the last."""
+        return self.placement()
 
     @property
     def size(self) -> int:
@@ -200,10 +208,9 @@ def decode(
 ) -> Population:
     """Turn mapped structure codons plus placement genes into a :class:`Population`.
 
-    ``out`` is as in :func:`placement_params`.
+    Placements are decoded when first read; ``out`` is as in :func:`placement_params`.
     """
-    placement = spec.scenario.placement
-    params = placement_params(
-        mapped, genes, ranges, spec.arena, None if placement is None else placement.scale, out
-    )
-    return Population(mapped.element_ids, mapped.n_elements, params, mapped.valid, table, spec.arena)
+    grammar = spec.scenario.placement
+    scale = None if grammar is None else grammar.scale
+    placement = partial(placement_params, mapped, genes, ranges, spec.arena, scale, out)
+    return Population(mapped.element_ids, mapped.n_elements, placement, mapped.valid, table, spec.arena)

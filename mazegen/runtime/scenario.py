@@ -160,9 +160,8 @@ def population_from_document(
             sy,
             math.radians(rotation),
         )
-    return Population(
-        ids, np.array([len(elements)], dtype=np.int32), params, np.array([True]), table, spec.arena
-    )
+    count = np.array([len(elements)], dtype=np.int32)
+    return Population(ids, count, lambda: params, np.array([True]), table, spec.arena)
 
 
 def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> dict[str, Any]:

@@ -82,6 +82,15 @@ def test_artifacts_are_deterministic_and_end_with_a_newline(example):
         assert text.endswith("\n") and not text.endswith("\n\n")
 
 
+def test_api_builds_from_a_spec_or_its_path(tmp_path):
+    import mazegen
+
+    from_path = mazegen.build(EXAMPLES / "factory.maze", tmp_path / "a")
+    from_spec = mazegen.build(mazegen.load(EXAMPLES / "factory.maze"), tmp_path / "b")
+    assert [p.name for p in from_path] == [p.name for p in from_spec]
+    assert all(a.read_bytes() == b.read_bytes() for a, b in zip(from_path, from_spec))
+
+
 @pytest.mark.parametrize("example", sorted(EXAMPLES.glob("*.maze")), ids=lambda p: p.name)
 def test_generated_python_compiles_and_passes_ruff(example, tmp_path):
     build(load_spec(example), tmp_path)
