@@ -64,8 +64,8 @@ def _hash_rows(codons, genes):  # pragma: no cover - compiled
 
 def genome_hashes(codons: np.ndarray, genes: np.ndarray) -> np.ndarray:
     """``uint64[N]`` hash of each genome (codons and placement genes)."""
-    rows = codons.shape[0]
-    return _hash_rows(np.ascontiguousarray(codons), np.ascontiguousarray(genes).reshape(rows, int(np.prod(genes.shape[1:]))))
+    flat_genes = np.ascontiguousarray(genes).reshape(codons.shape[0], int(np.prod(genes.shape[1:])))
+    return _hash_rows(np.ascontiguousarray(codons), flat_genes)
 
 
 class EvaluationCache:

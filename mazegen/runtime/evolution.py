@@ -14,7 +14,6 @@ from mazegen.runtime.problem import Problem, Workspace
 from mazegen.runtime.threads import threads_for
 from mazegen.spec import Evolution
 
-
 EVALUATION_CHUNK = 8192
 """Genomes evaluated per call: bounds the memory of the mapping and placement arrays
 (which grow with the element slots) whatever the population, and keeps them in cache."""

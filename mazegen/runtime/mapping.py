@@ -381,6 +381,7 @@ def map_population(
         c.alt_symbols,
         c.alt_nonterminals,
         c.symbols,
+        c.choice,
         c.term_chars,
         c.chars,
         c.trie,
@@ -391,7 +392,6 @@ def map_population(
         c.emits,
         c.term_end_mode,
         c.term_end_node,
-        c.choice,
     )
     options = (
         min(n, 8 * get_num_threads()),
@@ -419,8 +419,9 @@ def _map_all(codons, grammar, options, out):  # pragma: no cover - compiled
 @njit(cache=True, inline="always")
 def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cover - compiled
     """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped."""
-    start, rule_alts, alt_symbols, alt_nts, symbols, term_chars, chars, trie, trie_element, classes = grammar[:10]
-    term_fast, term_emits, emits, term_end_mode, term_end_node, choice = grammar[10:]
+    start, rule_alts, alt_symbols, alt_nts, symbols, choice = grammar[:6]
+    term_chars, chars, trie, trie_element, classes = grammar[6:11]
+    term_fast, term_emits, emits, term_end_mode, term_end_node = grammar[11:]
     lazy, pony, limit, max_depth = options[2], options[3], options[4], options[5]
     element_ids, numbers = out[3], out[4]
     n, slots = codons.shape[1], element_ids.shape[1]

@@ -47,7 +47,9 @@ def ranking(fitness: np.ndarray, count: int | None = None) -> np.ndarray:
     return candidates[np.argsort(key[candidates], kind="stable")][:count]
 
 
-def truncation_parents(rng: np.random.Generator, fitness: np.ndarray, fraction: float, count: int) -> np.ndarray:
+def truncation_parents(
+    rng: np.random.Generator, fitness: np.ndarray, fraction: float, count: int
+) -> np.ndarray:
     """Parents drawn uniformly from the best ``fraction`` of the population (the paper's selection)."""
     keep = max(1, int(np.ceil(fraction * fitness.shape[0])))
     return ranking(fitness, keep)[rng.integers(0, keep, size=count)]

@@ -94,8 +94,11 @@ class Workspace:
         """Mapping and placement arrays for ``rows`` individuals (views of the first rows)."""
         kept = self._map
         width = slots if numbers else 0
-        if kept is None or kept.valid.shape[0] < rows or kept.element_ids.shape[1] != slots or (
-            kept.numbers.shape[1] != width
+        if (
+            kept is None
+            or kept.valid.shape[0] < rows
+            or kept.element_ids.shape[1] != slots
+            or (kept.numbers.shape[1] != width)
         ):
             capacity = max(rows, 0 if kept is None else kept.valid.shape[0])
             kept = self._map = PopulationMap(
