@@ -143,9 +143,9 @@ def mutation_draws(
     New values are uniform in ``0..codon_max`` for codons and ``0..GENE_MAX`` for genes.
     """
     codon_hits = hit_positions(rng, children * length, rate)
-    codon_values = rng.integers(0, codon_max + 1, size=codon_hits.shape[0])
+    codon_values = rng.integers(0, codon_max + 1, size=(codon_hits.shape[0],))
     gene_hits = hit_positions(rng, children * slots * PLACEMENT_GENES, rate)
-    gene_values = rng.integers(0, GENE_MAX + 1, size=gene_hits.shape[0])
+    gene_values = rng.integers(0, GENE_MAX + 1, size=(gene_hits.shape[0],))
     return MutationDraws(codon_hits, codon_values, gene_hits, gene_values)
 
 
