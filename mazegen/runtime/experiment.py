@@ -7,7 +7,6 @@ A run is a pure function of (spec, seed, run index): run ``i`` draws from
 from __future__ import annotations
 
 import argparse
-import json
 import platform
 import sys
 from dataclasses import asdict, dataclass, replace
@@ -27,7 +26,7 @@ from mazegen.runtime.problem import Problem
 from mazegen.runtime.progress import QuietReporter, Reporter, reporter_for
 from mazegen.runtime.render import scenario_svg
 from mazegen.runtime.results import json_text, npz_bytes, staged_directory, stats_csv
-from mazegen.runtime.scenario import dumps, scenario_document
+from mazegen.runtime.scenario import dumps, scenario_document, scenario_key
 from mazegen.spec import Spec
 
 OVERRIDE_MINIMUM = {"seed": 0, "runs": 1, "population": 1, "generations": 0}
@@ -51,7 +50,7 @@ def best_documents(
     ranked = ranking(result.fitness)
     ranked = ranked[np.isfinite(result.fitness[ranked])]
     documents: list[dict[str, Any]] = []
-    seen: set[str] = set()
+    seen: set[bytes] = set()
     # Candidates are evaluated a batch at a time; most batches hold enough distinct scenarios.
     batch = max(4 * count, 64)
     for start in range(0, ranked.size, batch):
@@ -59,28 +58,30 @@ def best_documents(
         codons, genes = result.codons[chosen], result.genes[chosen]
         evaluation = problem.evaluate(codons, genes)
         for row in range(chosen.size):
-            document = scenario_document(
-                spec,
-                evaluation.population,
-                row,
-                phenotype=phenotype(
-                    problem.grammar, codons[row].tolist(), wraps=settings.wraps, consume=settings.consume
-                ),
-                fitness=float(evaluation.fitness[row]),
-                terms={key: float(values[row]) for key, values in evaluation.terms.items()},
-                origin={
-                    **origin,
-                    "rank": len(documents) + 1,
-                    "codons": codons[row].tolist(),
-                    "placement": genes[row].tolist(),
-                },
+            key = scenario_key(evaluation.population, row)
+            if key in seen:
+                continue
+            seen.add(key)
+            documents.append(
+                scenario_document(
+                    spec,
+                    evaluation.population,
+                    row,
+                    phenotype=phenotype(
+                        problem.grammar, codons[row].tolist(), wraps=settings.wraps, consume=settings.consume
+                    ),
+                    fitness=float(evaluation.fitness[row]),
+                    terms={key: float(values[row]) for key, values in evaluation.terms.items()},
+                    origin={
+                        **origin,
+                        "rank": len(documents) + 1,
+                        "codons": codons[row].tolist(),
+                        "placement": genes[row].tolist(),
+                    },
+                )
             )
-            key = json.dumps(document["elements"])
-            if key not in seen:
-                seen.add(key)
-                documents.append(document)
-                if len(documents) == count:
-                    return tuple(documents)
+            if len(documents) == count:
+                return tuple(documents)
     return tuple(documents)
 
 

@@ -170,34 +170,42 @@ def element_bounds(
 
 
 def world_parts(table: ElementTable, element_id: int, param_row: Sequence[float]) -> list[np.ndarray]:
-    """World vertices of one element, computed exactly as the kernels do.
+    """World vertices of one element (see :func:`elements_world_parts`)."""
+    return elements_world_parts(table, np.array([element_id]), np.asarray([param_row], np.float64))[0]
+
+
+def elements_world_parts(
+    table: ElementTable, element_ids: np.ndarray, params: np.ndarray
+) -> list[list[np.ndarray]]:
+    """World vertices of several elements, computed exactly as the kernels do, in one call.
 
     Args:
         table: Parts of the element types.
-        element_id: Row of ``table``.
-        param_row: ``(x, y, sx, sy, theta)``.
+        element_ids: ``int[M]`` rows of ``table``.
+        params: ``float64[M, 5]``: x, y, sx, sy and theta of each element.
 
     Returns:
-        One float64 (n, 2) array per part, counter-clockwise.
+        Per element, one float64 (n, 2) array per part, counter-clockwise.
     """
+    ids = np.ascontiguousarray(element_ids, np.int32)
+    rows = np.ascontiguousarray(params, np.float64).reshape(ids.shape[0], 5)
+    if ids.size and (ids.min() < 0 or ids.max() >= len(table.n_parts)):
+        raise ValueError(f"element ids must lie in [0, {len(table.n_parts)})")
     n_p, n_v = table.unit.shape[1:3]
-    wv = np.empty((1, n_p, n_v, 2))
-    pbox = np.empty((1, n_p, 4))
-    ebox = np.empty((1, 4))
-    row = np.asarray(param_row, dtype=np.float64)
-    _world_element(
-        table.n_parts,
-        table.n_vertices,
-        table.unit,
-        table.offset,
-        int(element_id),
-        row,
-        wv,
-        pbox,
-        ebox,
-        0,
-    )
-    return [wv[0, p, : table.n_vertices[element_id, p]].copy() for p in range(table.n_parts[element_id])]
+    wv = np.empty((ids.shape[0], n_p, n_v, 2))
+    _world_elements(table.n_parts, table.n_vertices, table.unit, table.offset, ids, rows, wv)
+    return [
+        [wv[k, p, : table.n_vertices[e, p]].copy() for p in range(table.n_parts[e])]
+        for k, e in enumerate(ids.tolist())
+    ]
+
+
+@njit(cache=True)
+def _world_elements(n_parts, n_vertices, unit, offset, ids, params, wv):  # pragma: no cover - compiled
+    pbox = np.empty((ids.shape[0], unit.shape[1], 4))
+    ebox = np.empty((ids.shape[0], 4))
+    for k in range(ids.shape[0]):
+        _world_element(n_parts, n_vertices, unit, offset, ids[k], params[k], wv, pbox, ebox, k)
 
 
 def _population(

@@ -17,7 +17,7 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.runtime.geometry import ElementTable, world_parts
+from mazegen.runtime.geometry import ElementTable, elements_world_parts
 from mazegen.runtime.population import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.spec import Spec
 
@@ -46,10 +46,11 @@ def _arena(spec: Spec) -> dict[str, Any]:
 def element_documents(spec: Spec, population: Population, index: int) -> list[dict[str, Any]]:
     """The elements of individual ``index`` as JSON-ready dicts."""
     types = spec.scenario_elements
+    count = int(population.n_elements[index])
+    ids, params = population.element_ids[index, :count], population.params[index, :count]
     out = []
-    for slot in range(int(population.n_elements[index])):
-        kind = types[int(population.element_ids[index, slot])]
-        p = population.params[index, slot]
+    for e, p, parts in zip(ids.tolist(), params, elements_world_parts(population.table, ids, params)):
+        kind = types[e]
         item: dict[str, Any] = {
             "type": kind.name,
             "class": kind.semantic_class,
@@ -63,12 +64,16 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
             item["size"] = _round(p[SX])
         else:
             item["width"], item["depth"] = _round(p[SX]), _round(p[SY])
-        item["parts"] = [
-            [[_round(x), _round(y)] for x, y in part]
-            for part in world_parts(population.table, int(population.element_ids[index, slot]), p)
-        ]
+        item["parts"] = [np.round(part, DIGITS).tolist() for part in parts]
         out.append(item)
     return out
+
+
+def scenario_key(population: Population, index: int) -> bytes:
+    """What tells scenarios apart: element types and placements to :data:`DIGITS` decimals."""
+    count = int(population.n_elements[index])
+    ids = population.element_ids[index, :count].astype(np.int32)
+    return ids.tobytes() + np.round(population.params[index, :count], DIGITS).tobytes()
 
 
 def scenario_document(

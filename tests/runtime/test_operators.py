@@ -41,7 +41,7 @@ def reference_children(rng, codons, genes, parents, rate, mutation, codon_max):
     for array, high in ((new_codons, codon_max), (new_genes, GENE_MAX)):
         flat = array.reshape(-1)
         hit = ops.hit_positions(rng, flat.size, mutation)
-        flat[hit] = rng.integers(0, high + 1, size=hit.shape[0])
+        flat[hit] = rng.integers(0, high, size=hit.shape[0], dtype=np.min_scalar_type(high), endpoint=True)
     return new_codons, new_genes
 
 
@@ -94,6 +94,16 @@ def test_partial_ranking_is_a_prefix_of_the_full_ranking(count):
     for values in (fitness, np.nan_to_num(fitness, nan=2.0)):
         full = np.argsort(-values, kind="stable")
         assert ops.ranking(values, count).tolist() == full[:count].tolist()
+
+
+@pytest.mark.parametrize("top", [0, 1, 900, 60000])
+@pytest.mark.parametrize("count", [1, 7, 600, 6000, 59999])
+def test_partial_ranking_of_large_populations_with_ties(top, count):
+    """Sampled guesses of the cut: ties at the top, a few distinct values, and the fallback."""
+    fitness = rng(top).integers(0, 9, size=60000).astype(float)
+    fitness[rng(1).permutation(60000)[:top]] = 99.0
+    full = np.argsort(-fitness, kind="stable")
+    assert ops.ranking(fitness, count).tolist() == full[:count].tolist()
 
 
 def test_one_point_crossover_swaps_tails():
