@@ -8,6 +8,8 @@ evaluated once.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numba import njit, prange
 
@@ -68,27 +70,86 @@ def genome_hashes(codons: np.ndarray, genes: np.ndarray) -> np.ndarray:
     return _hash_rows(np.ascontiguousarray(codons), flat_genes)
 
 
+@dataclass(frozen=True)
+class Lookup:
+    """How a generation splits between the cache, its own duplicates and new genomes.
+
+    Attributes:
+        todo: Rows to evaluate: the first occurrence of each genome the cache lacks, ascending.
+        first: ``int64[N]``: the first row holding the same genome as each row.
+        fitness: ``float64[N]``: the cached fitness of first occurrences, NaN where unknown.
+        distinct: Number of distinct genomes in the generation.
+        table: Open-addressing table of the generation's hashes (0 = empty slot).
+        table_rows: The first row of each table slot's genome.
+    """
+
+    todo: np.ndarray
+    first: np.ndarray
+    fitness: np.ndarray
+    distinct: int
+    table: np.ndarray
+    table_rows: np.ndarray
+
+
 class EvaluationCache:
-    """Fitness of the genomes of the last generation, looked up by hash."""
+    """Fitness of the genomes of the last generation, in a hash table keyed by genome hash.
+
+    Lookups and inserts run in a compiled loop over open-addressing tables (linear
+    probing, at most half full): a generation of 50,000 is split in about a millisecond,
+    where sorting its hashes cost several.
+    """
 
     def __init__(self) -> None:
-        self._hashes = np.empty(0, dtype=np.uint64)
-        self._fitness = np.empty(0, dtype=np.float64)
+        self._table = np.zeros(1, dtype=np.uint64)
+        self._rows = np.zeros(1, dtype=np.int64)
+        self._fitness = np.zeros(1, dtype=np.float64)
 
-    def lookup(self, hashes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Return (found mask, fitness where found) for ``hashes``."""
-        if self._hashes.size == 0:
-            return np.zeros(hashes.shape[0], dtype=bool), np.zeros(hashes.shape[0])
-        where = np.searchsorted(self._hashes, hashes)
-        where = np.minimum(where, self._hashes.size - 1)
-        found = self._hashes[where] == hashes
-        return found, self._fitness[where]
+    def lookup(self, hashes: np.ndarray) -> Lookup:
+        """Split a generation by its genome ``hashes`` (from :func:`genome_hashes`)."""
+        capacity = 1 << max(1, int(2 * hashes.shape[0] - 1).bit_length())
+        table = np.zeros(capacity, dtype=np.uint64)
+        table_rows = np.empty(capacity, dtype=np.int64)
+        first = np.empty(hashes.shape[0], dtype=np.int64)
+        fitness = np.full(hashes.shape[0], np.nan)
+        todo = np.empty(hashes.shape[0], dtype=np.int64)
+        old = (self._table, self._rows, self._fitness)
+        distinct, new = _split(hashes, old, table, table_rows, first, fitness, todo)
+        return Lookup(todo[:new], first, fitness, int(distinct), table, table_rows)
 
-    def remember(self, unique_hashes: np.ndarray, fitness: np.ndarray) -> None:
-        """Replace the cache with this generation's genomes.
+    def remember(self, lookup: Lookup, fitness: np.ndarray) -> None:
+        """Replace the cache with the generation of ``lookup``, whose rows scored ``fitness``."""
+        self._table, self._rows, self._fitness = lookup.table, lookup.table_rows, fitness
 
-        Args:
-            unique_hashes: Sorted distinct hashes, as from ``np.unique``.
-            fitness: Their fitness.
-        """
-        self._hashes, self._fitness = unique_hashes, fitness
+
+@njit(cache=True, inline="always")
+def _slot(table, key):  # pragma: no cover - compiled
+    """The slot holding ``key``, or the empty slot where it would go."""
+    mask = np.uint64(table.shape[0] - 1)
+    slot = (key ^ (key >> np.uint64(29))) & mask
+    while table[slot] != 0 and table[slot] != key:
+        slot = (slot + np.uint64(1)) & mask
+    return slot
+
+
+@njit(cache=True)
+def _split(hashes, old, table, table_rows, first, fitness, todo):  # pragma: no cover - compiled
+    old_table, old_rows, old_fitness = old
+    distinct = 0
+    new = 0
+    for i in range(hashes.shape[0]):
+        key = hashes[i] if hashes[i] != 0 else np.uint64(1)  # 0 marks empty slots
+        slot = _slot(table, key)
+        if table[slot] == key:
+            first[i] = table_rows[slot]
+            continue
+        table[slot] = key
+        table_rows[slot] = i
+        first[i] = i
+        distinct += 1
+        seen = _slot(old_table, key)
+        if old_table[seen] == key:
+            fitness[i] = old_fitness[old_rows[seen]]
+        else:
+            todo[new] = i
+            new += 1
+    return distinct, new

@@ -56,18 +56,14 @@ def evaluate_cached(
     Returns:
         fitness per individual, number of genomes evaluated, number of distinct genomes.
     """
-    hashes = genome_hashes(codons, genes)
-    unique, first, inverse = np.unique(hashes, return_index=True, return_inverse=True)
-    found, cached = cache.lookup(unique)
-    fitness_unique = np.where(found, cached, 0.0)
-    todo = first[~found]
-    computed = np.empty(todo.size)
-    for start in range(0, todo.size, EVALUATION_CHUNK):
-        rows = todo[start : start + EVALUATION_CHUNK]
-        computed[start : start + rows.size] = problem.evaluate(codons[rows], genes[rows], workspace).fitness
-    fitness_unique[~found] = computed
-    cache.remember(unique, fitness_unique)
-    return fitness_unique[inverse.reshape(-1)], int(todo.size), int(unique.size)
+    lookup = cache.lookup(genome_hashes(codons, genes))
+    fitness = lookup.fitness
+    for start in range(0, lookup.todo.size, EVALUATION_CHUNK):
+        rows = lookup.todo[start : start + EVALUATION_CHUNK]
+        fitness[rows] = problem.evaluate(codons[rows], genes[rows], workspace).fitness
+    fitness = fitness[lookup.first]
+    cache.remember(lookup, fitness)
+    return fitness, int(lookup.todo.size), lookup.distinct
 
 
 def breed(

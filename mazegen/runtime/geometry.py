@@ -170,13 +170,12 @@ def element_bounds(
 
 
 def world_parts(table: ElementTable, element_id: int, param_row: Sequence[float]) -> list[np.ndarray]:
-    """World vertices of one element (see :func:`elements_world_parts`)."""
-    return elements_world_parts(table, np.array([element_id]), np.asarray([param_row], np.float64))[0]
+    """World vertices of one element, one float64 (n, 2) array per part (see :func:`world_vertices`)."""
+    wv = world_vertices(table, np.array([element_id]), np.asarray([param_row], np.float64))[0]
+    return [wv[p, : table.n_vertices[element_id, p]].copy() for p in range(table.n_parts[element_id])]
 
 
-def elements_world_parts(
-    table: ElementTable, element_ids: np.ndarray, params: np.ndarray
-) -> list[list[np.ndarray]]:
+def world_vertices(table: ElementTable, element_ids: np.ndarray, params: np.ndarray) -> np.ndarray:
     """World vertices of several elements, computed exactly as the kernels do, in one call.
 
     Args:
@@ -185,19 +184,16 @@ def elements_world_parts(
         params: ``float64[M, 5]``: x, y, sx, sy and theta of each element.
 
     Returns:
-        Per element, one float64 (n, 2) array per part, counter-clockwise.
+        ``float64[M, P, V, 2]``: element ``k``'s part ``p`` is counter-clockwise in
+        ``[k, p, :table.n_vertices[e, p]]`` for ``p < table.n_parts[e]``; the rest is padding.
     """
     ids = np.ascontiguousarray(element_ids, np.int32)
     rows = np.ascontiguousarray(params, np.float64).reshape(ids.shape[0], 5)
     if ids.size and (ids.min() < 0 or ids.max() >= len(table.n_parts)):
         raise ValueError(f"element ids must lie in [0, {len(table.n_parts)})")
-    n_p, n_v = table.unit.shape[1:3]
-    wv = np.empty((ids.shape[0], n_p, n_v, 2))
+    wv = np.zeros((ids.shape[0], *table.unit.shape[1:]))
     _world_elements(table.n_parts, table.n_vertices, table.unit, table.offset, ids, rows, wv)
-    return [
-        [wv[k, p, : table.n_vertices[e, p]].copy() for p in range(table.n_parts[e])]
-        for k, e in enumerate(ids.tolist())
-    ]
+    return wv
 
 
 @njit(cache=True)

@@ -418,7 +418,12 @@ def _map_all(codons, grammar, options, out):  # pragma: no cover - compiled
 
 @njit(cache=True, inline="always")
 def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cover - compiled
-    """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped."""
+    """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped.
+
+    The chosen alternative is read in place (``cur`` up to ``cur_end``) rather than pushed:
+    only what follows a non-terminal goes on the stack, when that non-terminal expands,
+    so leading terminals and the first non-terminal of each alternative skip the stack.
+    """
     start, rule_alts, alt_symbols, alt_nts, symbols, choice = grammar[:6]
     term_chars, chars, trie, trie_element, classes = grammar[6:11]
     term_fast, term_emits, emits, term_end_mode, term_end_node = grammar[11:]
@@ -427,11 +432,16 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
     n, slots = codons.shape[1], element_ids.shape[1]
     stack[0], depths[0] = start, 1
     sp, used, pos, deepest, pending = 1, 0, 0, 1, 1
+    cur, cur_end, cur_depth, stuck = 0, 0, 0, False
     mode, node, sign, mant, scale, count, n_num = _IDLE, 0, 1.0, 0.0, 1.0, 0, 0
-    while sp > 0 and deepest <= max_depth:
+    while (cur < cur_end or sp > 0) and deepest <= max_depth:
         wrapped = pony and used > 0 and pos == 0 and pending > 0
-        sp -= 1
-        symbol, depth = stack[sp], depths[sp]
+        if cur < cur_end:
+            symbol, depth = symbols[cur], cur_depth
+            cur += 1
+        else:
+            sp -= 1
+            symbol, depth = stack[sp], depths[sp]
         deepest = max(deepest, depth)
         if symbol < 0 and mode == _IDLE and term_fast[-1 - symbol]:
             for q in range(term_emits[-1 - symbol], term_emits[-symbol]):
@@ -467,20 +477,21 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
             if lazy and k == 1:
                 chosen = first
             elif used >= limit:
-                sp += 1  # left unexpanded: invalid
+                stuck = True  # left unexpanded: invalid
                 break
             else:
                 codon = np.int64(codons[i, pos])
                 chosen = first + (choice[symbol, codon] if 0 <= codon < _CHOICE_CODONS else codon % k)
                 used += 1
                 pos = 0 if pos + 1 == n else pos + 1
-            for j in range(alt_symbols[chosen + 1] - 1, alt_symbols[chosen] - 1, -1):
-                stack[sp], depths[sp] = symbols[j], depth + 1
+            for j in range(cur_end - 1, cur - 1, -1):  # the rest of the alternative being read
+                stack[sp], depths[sp] = symbols[j], cur_depth
                 sp += 1
+            cur, cur_end, cur_depth = alt_symbols[chosen], alt_symbols[chosen + 1], depth + 1
             pending += alt_nts[chosen]
         if wrapped:
             break
-    ok = sp == 0
+    ok = sp == 0 and cur == cur_end and not stuck
     if ok:
         count, n_num = _finish(mode, node, sign * mant / scale, trie_element, out, i, count, n_num)
     if not ok or count > slots:

@@ -17,7 +17,7 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.runtime.geometry import ElementTable, elements_world_parts
+from mazegen.runtime.geometry import ElementTable, world_vertices
 from mazegen.runtime.population import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.spec import Spec
 
@@ -48,8 +48,11 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
     types = spec.scenario_elements
     count = int(population.n_elements[index])
     ids, params = population.element_ids[index, :count], population.params[index, :count]
+    table = population.table
+    # One rounding and one conversion for every vertex of the scenario.
+    world = np.round(world_vertices(table, ids, params), DIGITS).tolist()
     out = []
-    for e, p, parts in zip(ids.tolist(), params, elements_world_parts(population.table, ids, params)):
+    for e, p, parts in zip(ids.tolist(), params, world):
         kind = types[e]
         item: dict[str, Any] = {
             "type": kind.name,
@@ -64,7 +67,7 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
             item["size"] = _round(p[SX])
         else:
             item["width"], item["depth"] = _round(p[SX]), _round(p[SY])
-        item["parts"] = [np.round(part, DIGITS).tolist() for part in parts]
+        item["parts"] = [parts[k][: table.n_vertices[e, k]] for k in range(table.n_parts[e])]
         out.append(item)
     return out
 

@@ -58,13 +58,30 @@ def test_hashes_tell_genomes_apart():
     assert genome_hashes(codons[:0], genes[:0]).shape == (0,)
 
 
-def test_cache_finds_only_what_it_remembers():
-    cache = EvaluationCache()
-    assert not cache.lookup(np.array([1, 2], np.uint64))[0].any()
-    cache.remember(np.array([3, 8, 20], np.uint64), np.array([0.5, -1.0, 7.0]))
-    found, fitness = cache.lookup(np.array([8, 9, 20, 1, 30], np.uint64))
-    assert found.tolist() == [True, False, True, False, False]
-    assert fitness[found].tolist() == [-1.0, 7.0]
+@pytest.mark.parametrize("size", [0, 1, 7, 3000])
+def test_cache_split_equals_a_dictionary_reference(size):
+    """Two generations drawn from a small pool of hashes: duplicates, cache hits and new genomes."""
+    rng = np.random.default_rng(size)
+    pool = rng.integers(2, 2**63, size=max(size, 1), dtype=np.uint64)
+    cache, remembered = EvaluationCache(), {}
+    for generation in range(3):
+        hashes = pool[rng.integers(0, pool.size, size=size)]
+        lookup = cache.lookup(hashes)
+        first_row: dict[int, int] = {}
+        for row, value in enumerate(hashes.tolist()):
+            first_row.setdefault(value, row)
+        expected_first = [first_row[value] for value in hashes.tolist()]
+        expected_todo = sorted(row for value, row in first_row.items() if value not in remembered)
+        assert lookup.first.tolist() == expected_first
+        assert lookup.todo.tolist() == expected_todo and lookup.distinct == len(first_row)
+        for value, row in first_row.items():
+            if value in remembered:
+                assert lookup.fitness[row] == remembered[value]
+        fitness = lookup.fitness.copy()
+        fitness[lookup.todo] = rng.random(lookup.todo.size) + generation  # "evaluated"
+        fitness = fitness[lookup.first]
+        cache.remember(lookup, fitness)
+        remembered = {value: fitness[row] for value, row in first_row.items()}
 
 
 def test_cached_evaluation_equals_direct_evaluation(tmp_path):
