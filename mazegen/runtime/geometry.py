@@ -381,9 +381,17 @@ def _edge_separates(wv, ka, pa, na, kb, pb, nb):
 
 
 @njit(cache=True, inline="always")
-def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox):
+def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox):
     """True if some part of element ``a`` (type ``ea``) overlaps some part of ``b`` (type ``eb``)."""
     for pa in range(n_parts[ea]):
+        # A part clear of b's whole box meets none of b's parts (bars of figures often are).
+        if not (
+            (pbox[a, pa, 0] < ebox[b, 2])
+            & (ebox[b, 0] < pbox[a, pa, 2])
+            & (pbox[a, pa, 1] < ebox[b, 3])
+            & (ebox[b, 1] < pbox[a, pa, 3])
+        ):
+            continue
         for pb in range(n_parts[eb]):
             if not (
                 (pbox[a, pa, 0] < pbox[b, pb, 2])
@@ -449,7 +457,8 @@ def _overlap_kernel(
                 a = pairs[q, 0]
                 b = pairs[q, 1]
                 if _boxes_meet(ebox, a, b):
-                    count += _elements_overlap(n_parts, n_vertices, ids[i, a], a, ids[i, b], b, wv, pbox)
+                    ea, eb = ids[i, a], ids[i, b]
+                    count += _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox)
             out[i] = count
 
 
