@@ -57,6 +57,25 @@ def stats_without_time(directory: Path) -> list[str]:
     return [line.rsplit(",", 1)[0] for line in (directory / "stats.csv").read_text().splitlines()]
 
 
+def test_thread_count_does_not_change_results(factory):
+    """5,000 individuals run on every numba thread; forced onto one, the run is identical."""
+    import numba
+
+    from mazegen.runtime.threads import PARALLEL_FROM
+
+    settings = factory.spec.evolution.__class__(population=PARALLEL_FROM + 904, generations=3)
+    parallel = evolve(factory, settings, np.random.default_rng(9))
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        serial = evolve(factory, settings, np.random.default_rng(9))
+    finally:
+        numba.set_num_threads(threads)
+    assert np.array_equal(parallel.codons, serial.codons) and np.array_equal(parallel.genes, serial.genes)
+    assert np.array_equal(parallel.fitness, serial.fitness)
+    assert [r.best for r in parallel.stats] == [r.best for r in serial.stats]
+
+
 def test_same_seed_same_bytes_other_seed_other_scenarios(tmp_path):
     spec = EXAMPLES / "factory.maze"
     runs = {}

@@ -135,6 +135,22 @@ def test_breeding_kernel_equals_the_numpy_reference(population, count, length, s
     assert got[0].dtype == np.int32 and got[1].dtype == np.uint16
 
 
+@pytest.mark.parametrize(("total", "rate"), [(1, 0.5), (100, 0.05), (20000, 0.01), (5000, 0.3), (10, 1e-30)])
+def test_hit_positions_equal_a_numpy_reference(total, rate):
+    """Batches of exponential draws turned into geometric gaps, accumulated until past ``total``."""
+    draws = rng(total)
+    batch = int(total * rate * 1.1) + 16
+    scale = -1.0 / np.log1p(-rate)
+    positions = np.empty(0, dtype=np.int64)
+    last = -1
+    while last < total:
+        gaps = np.minimum(draws.standard_exponential(batch) * scale, float(total)).astype(np.int64) + 1
+        more = np.cumsum(gaps) + last
+        positions = np.concatenate([positions, more])
+        last = int(more[-1])
+    assert ops.hit_positions(rng(total), total, rate).tolist() == positions[positions < total].tolist()
+
+
 @pytest.mark.parametrize("rate", [0.0, 0.01, 0.2, 1.0])
 def test_mutation_rate_is_respected(rate):
     codons = np.zeros((400, 50), dtype=np.int32)
