@@ -68,7 +68,11 @@ class ElementType:
 
 @dataclass(frozen=True)
 class Arena:
-    """The floor: a rectangle ``[0, width] x [0, height]`` with a start and goal."""
+    """The floor: a rectangle ``[0, width] x [0, height]`` with a start and goal.
+
+    ``grid`` is the cell size of the occupancy grid that solvability and the
+    difficulty metrics are computed on, or ``None`` for :attr:`cell`'s default.
+    """
 
     name: str
     width: float
@@ -77,6 +81,16 @@ class Arena:
     start: Point
     goal: Point
     robot_radius: float
+    grid: float | None = None
+
+    @property
+    def cell(self) -> float:
+        """The grid's cell size: ``grid``, else half the robot radius, coarsened so
+        that no side has more than 128 cells."""
+        if self.grid is not None:
+            return self.grid
+        longest = max(self.width, self.height)
+        return max(self.robot_radius / 2, longest / 128)
 
 
 @dataclass(frozen=True)
@@ -121,7 +135,7 @@ class Scenario:
 class FitnessTerm:
     """One term of the fitness.
 
-    ``kind`` is one of ``count``, ``overlap``, ``size_limit``, ``outside``.
+    ``kind`` is one of ``count``, ``overlap``, ``size_limit``, ``outside``, ``solvable``.
     ``weight`` multiplies the term (penalties are subtracted). ``limit`` is the
     size limit. ``reject`` makes an individual invalid instead of penalised.
     """
@@ -233,6 +247,7 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         _pair(a["start"]),
         _pair(a["goal"]),
         float(a["robot_radius"]),
+        None if a.get("grid") is None else float(a["grid"]),
     )
     s = data["scenario"]
     placement = s["placement"]

@@ -28,8 +28,14 @@ def score(spec: Path, scenario: Path) -> None:
         problem = Problem.from_build_dir(Path(temp))
         population = population_from_document(resolved, problem.table, document, str(scenario))
         fitness, terms = problem.score(population)
+        navigation = population.navigation
     value = float(fitness[0])
     click.echo(f"fitness\t{value:g}" if value != float("-inf") else "fitness\tinvalid (rejected by the spec)")
     click.echo(f"elements\t{int(population.n_elements[0])}")
     for key, values in terms.items():
         click.echo(f"{key}\t{float(values[0]) + 0.0:g}")  # + 0.0 turns -0.0 into 0.0
+    click.echo(f"solvable\t{'yes' if navigation.solvable[0] else 'no'}")
+    if navigation.solvable[0]:
+        length = float(navigation.path_length[0])
+        click.echo(f"path length\t{length:.1f} {resolved.arena.unit} ({length / navigation.cell:.1f} cells)")
+        click.echo(f"tortuosity\t{length / navigation.straight:.3f}")

@@ -41,8 +41,16 @@ def convert_arena(decl: Any) -> Arena:
         points[label] = (x, y)
     if points["start"] == points["goal"]:
         fail(props["GoalProperty"], "start and goal are the same point")
+    grid = props["GridProperty"].cell if "GridProperty" in props else None
+    if grid is not None and not 0 < grid <= min(size.width, size.height) / 4:
+        fail(
+            props["GridProperty"],
+            f"grid cell must be positive and at most a quarter of the arena's shorter side, got {grid:g}",
+        )
+    if grid is not None and max(size.width, size.height) / grid > 1024:
+        fail(props["GridProperty"], f"grid cell {grid:g} makes more than 1024 cells on a side")
     return Arena(
-        decl.name, size.width, size.height, size.unit or "cm", points["start"], points["goal"], radius
+        decl.name, size.width, size.height, size.unit or "cm", points["start"], points["goal"], radius, grid
     )
 
 

@@ -49,6 +49,8 @@ def _metric(term: FitnessTerm) -> tuple[str, str]:
             f"metrics.elements_over_size(pop, {float(term.limit)!r})",  # type: ignore[arg-type]
             "paper v1.5: elements over the size limit",
         )
+    if term.kind == "solvable":
+        return "metrics.unsolvable(pop)", "no path from start to goal for the robot"
     return "metrics.elements_outside(pop)", "elements not wholly inside the arena"
 
 

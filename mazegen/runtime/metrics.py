@@ -45,3 +45,19 @@ def elements_outside(pop: Population) -> np.ndarray:
     return geometry.elements_outside(
         pop.table, pop.element_ids, pop.n_elements, pop.params, arena.width, arena.height
     ).astype(np.float64)
+
+
+def unsolvable(pop: Population) -> np.ndarray:
+    """1 where a valid scenario has no path from start to goal for the robot, else 0."""
+    return (pop.valid & ~pop.navigation.solvable).astype(np.float64)
+
+
+def path_length(pop: Population) -> np.ndarray:
+    """Length of the robot's path from start to goal in arena units, NaN when there is none."""
+    return pop.navigation.path_length
+
+
+def tortuosity(pop: Population) -> np.ndarray:
+    """Path length over the straight-line distance from start to goal (1 = straight), NaN when unsolvable."""
+    nav = pop.navigation
+    return nav.path_length / nav.straight

@@ -21,6 +21,7 @@ from mazegen.spec import Arena, Spec
 if TYPE_CHECKING:
     from mazegen.runtime.geometry import ElementTable
     from mazegen.runtime.mapping import PopulationMap
+    from mazegen.runtime.navigation import Navigation
 
 GENE_MAX = 65535
 """Placement genes are integers 0..GENE_MAX, scaled into each element's ranges."""
@@ -56,6 +57,13 @@ class Population:
     def params(self) -> np.ndarray:
         """``float64[N, K, 5]`` x, y, sx, sy and rotation (radians) of each element, 0 past the last."""
         return self.placement()
+
+    @cached_property
+    def navigation(self) -> Navigation:
+        """Solvability and path of every individual, searched on the arena's grid when first read."""
+        from mazegen.runtime.navigation import grid_of, navigate
+
+        return navigate(self, grid_of(self.arena))
 
     @property
     def size(self) -> int:

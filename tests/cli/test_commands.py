@@ -145,6 +145,13 @@ def test_score_a_hand_drawn_floor(tmp_path):
     result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
     assert "overlap\t-1.5" in result.output.splitlines()
     assert result.output.splitlines()[0] == "fitness\t2.5"
+    assert "solvable\tyes" in result.output.splitlines()
+    assert any(line.startswith("tortuosity\t1.0") for line in result.output.splitlines())
+    # A wall from floor to ceiling: no path, and factory requires one.
+    floor["elements"].append({"type": "vwall", "x": 1000, "y": 525, "width": 20, "depth": 1100})
+    path.write_text(json.dumps(floor))
+    lines = invoke("score", str(EXAMPLES / "factory.maze"), str(path)).output.splitlines()
+    assert lines[0] == "fitness\tinvalid (rejected by the spec)" and "solvable\tno" in lines
 
 
 @pytest.mark.parametrize(

@@ -139,6 +139,24 @@ BAD_SPECS = [
     ("duplicate setting", spec(tail="evolution { seed 1 seed 2 }\n"), "4:20", "duplicate 'seed'"),
     ("duplicate term", spec(tail="fitness { count count }\n"), "4:17", "duplicate fitness term 'count'"),
     (
+        "grid cell too coarse",
+        spec(arena=ARENA.replace("robot radius 20", "robot radius 20 grid 300")),
+        "2:81",
+        "grid cell must be positive and at most a quarter of the arena's shorter side, got 300",
+    ),
+    (
+        "grid cell too fine",
+        spec(arena=ARENA.replace("robot radius 20", "robot radius 20 grid 0.5")),
+        "2:81",
+        "grid cell 0.5 makes more than 1024 cells on a side",
+    ),
+    (
+        "solvable needs a mode",
+        spec(tail="fitness { solvable }\n"),
+        "4:20",
+        "expected 'required' or 'penalty'",
+    ),
+    (
         "size limit allow",
         spec(tail="fitness { size limit 500 allow }\n"),
         "4:11",

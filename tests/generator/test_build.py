@@ -127,6 +127,18 @@ def test_fitness_lines_follow_the_terms(write_spec):
     assert "reject |= metrics.elements_outside(pop) > 0" in fitness
 
 
+@pytest.mark.parametrize(
+    ("term", "line"),
+    [
+        ("solvable required", "reject |= metrics.unsolvable(pop) > 0"),
+        ("solvable penalty 10", "'solvable': -10.0 * metrics.unsolvable(pop)"),
+    ],
+)
+def test_solvable_term_reads_the_navigation_metric(write_spec, term, line):
+    path = write_spec(BASE + f"scenario s on canvas {{ elements square }}\nfitness {{ count {term} }}\n")
+    assert line in render_artifacts(load_spec(path))["fitness.py"]
+
+
 def test_hostile_text_cannot_reach_python(write_spec, tmp_path):
     hostile = "'''; import os; os.system('echo pwned') #"
     path = write_spec(
