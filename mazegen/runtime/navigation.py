@@ -13,7 +13,7 @@ Per individual, in one compiled pass:
    the start and goal cells are connected.
 4. **Path**: an A* search over runs (a run is entered where the straight
    crossing from the previous entry point allows; the straight line to the goal
-   guides the search), then the shortest path through
+   guides the search; the queue is bucketed by whole cells), then the shortest path through
    the chosen corridor of runs by the funnel algorithm (string pulling through the
    portals between runs). In an open arena it is the straight segment.
 
@@ -165,20 +165,19 @@ def _grid_args(grid: Grid) -> tuple:
 def free_cells(pop: Population, grid: Grid, index: int) -> np.ndarray:
     """``bool[rows, cols]`` configuration-space free cells of one individual (for drawing and tests)."""
     table = pop.table
-    rows_bits = np.zeros((grid.rows, grid.words), np.uint64)
-    scratch = _Scratch.make(table.unit.shape[1], table.unit.shape[2], pop.element_ids.shape[1], grid)
+    free = np.zeros((grid.rows, grid.words), np.uint64)
+    parts, vertices = table.unit.shape[1:3]
+    raster = _raster_arrays(grid.rows, grid.words, pop.element_ids.shape[1], parts, vertices)
     _cspace(
         (table.n_parts, table.n_vertices, table.unit, table.offset),
         np.ascontiguousarray(pop.element_ids[index], np.int32),
         int(pop.n_elements[index]),
         np.ascontiguousarray(pop.params[index], np.float64),
         _grid_args(grid),
-        scratch.occupied,
-        scratch.dilated,
-        scratch.wv,
-        rows_bits,
+        raster,
+        free,
     )
-    return unpack(rows_bits, grid.cols)
+    return unpack(free, grid.cols)
 
 
 def unpack(bits: np.ndarray, cols: int) -> np.ndarray:
@@ -187,41 +186,36 @@ def unpack(bits: np.ndarray, cols: int) -> np.ndarray:
     return np.unpackbits(as_bytes, axis=1, bitorder="little")[:, :cols].astype(bool)
 
 
-@dataclass(frozen=True)
-class _Scratch:
-    occupied: np.ndarray
-    dilated: np.ndarray
-    wv: np.ndarray
-
-    @classmethod
-    def make(cls, parts: int, vertices: int, slots: int, grid: Grid) -> _Scratch:
-        return cls(
-            np.zeros((grid.rows, grid.words), np.uint64),
-            np.zeros((len(grid.spans), grid.rows, grid.words), np.uint64),
-            np.zeros((max(slots, 1), parts, vertices, 2)),
-        )
+@njit(cache=True)
+def _raster_arrays(rows, words, slots, parts, vertices):  # pragma: no cover - compiled
+    """Scratch of one rasterisation: occupied rows, a widened row, world vertices and boxes."""
+    slots = max(slots, 1)
+    return (
+        np.zeros((rows, words), np.uint64),
+        np.zeros(words, np.uint64),
+        np.zeros((slots, parts, vertices, 2)),
+        np.zeros((slots, parts, 4)),
+        np.zeros((slots, 4)),
+    )
 
 
 @njit(cache=True, parallel=True)
 def _navigate_all(table, ids, n_el, params, valid, grid, blocks, solvable, length):  # pragma: no cover
     n = ids.shape[0]
-    rows, cols, spans, border = grid[1], grid[2], grid[3], grid[4]
+    rows, cols, border = grid[1], grid[2], grid[4]
     words = border.shape[1]
-    n_v = table[2].shape[2]
     for block in prange(blocks):
-        occupied = np.zeros((rows, words), np.uint64)
-        dilated = np.zeros((spans.shape[0], rows, words), np.uint64)
-        wv = np.zeros((max(ids.shape[1], 1), table[2].shape[1], n_v, 2))
+        raster = _raster_arrays(rows, words, ids.shape[1], table[2].shape[1], table[2].shape[2])
         free = np.zeros((rows, words), np.uint64)
         capacity = rows * (cols // 2 + 1)
         runs = np.zeros((capacity, 3), np.int64)  # row, first column, last column
         row_first = np.zeros(rows + 1, np.int64)
-        search = _search_arrays(capacity)
+        search = _search_arrays(capacity, 4 * (rows + cols) + 16)
         portals = np.zeros((capacity + 2, 4))
         for i in range(block * n // blocks, (block + 1) * n // blocks):
             if not valid[i]:
                 continue
-            _cspace(table, ids[i], n_el[i], params[i], grid, occupied, dilated, wv, free)
+            _cspace(table, ids[i], n_el[i], params[i], grid, raster, free)
             count = _runs(free, cols, runs, row_first)
             found, total = _shortest(runs, row_first, count, grid, search, portals)
             solvable[i] = found
@@ -230,32 +224,35 @@ def _navigate_all(table, ids, n_el, params, valid, grid, blocks, solvable, lengt
 
 
 @njit(cache=True)
-def _cspace(table, ids, count, params, grid, occupied, dilated, wv, free):  # pragma: no cover - compiled
+def _cspace(table, ids, count, params, grid, raster, free):  # pragma: no cover - compiled
     """Free configuration-space cells of one individual, as bit rows in ``free``."""
     n_parts, n_vertices, unit, offset = table
     cell, rows, cols, spans, border = grid[0], grid[1], grid[2], grid[3], grid[4]
+    occupied, wide, wv, pbox, ebox = raster
     words = border.shape[1]
     occupied[:, :] = 0
-    pbox = np.empty((wv.shape[0], wv.shape[1], 4))
-    ebox = np.empty((wv.shape[0], 4))
     for k in range(count):
         e = ids[k]
         _world_element(n_parts, n_vertices, unit, offset, e, params[k], wv, pbox, ebox, k)
         for p in range(n_parts[e]):
             _mark_part(wv, k, p, n_vertices[e, p], pbox[k, p], cell, rows, cols, occupied)
-    # Disc dilation: rows dy away are widened by the disc's half-width there.
-    for s in range(spans.shape[0]):
-        for r in range(rows):
-            _widen(occupied[r], spans[s], dilated[s, r])
-    reach = spans.shape[0] - 1
+    # Disc dilation: an occupied row blocks the rows dy away, widened by the disc's half-width there.
+    free[:, :] = border
+    for source in range(rows):
+        empty = True
+        for w in range(words):
+            empty &= occupied[source, w] == 0
+        if empty:
+            continue
+        for dy in range(spans.shape[0]):
+            _widen(occupied[source], spans[dy], wide)
+            for r in (source - dy, source + dy):
+                if 0 <= r < rows:
+                    for w in range(words):
+                        free[r, w] |= wide[w]
     for r in range(rows):
         for w in range(words):
-            blocked = border[r, w]
-            for dy in range(-reach, reach + 1):
-                source = r + dy
-                if 0 <= source < rows:
-                    blocked |= dilated[abs(dy), source, w]
-            free[r, w] = ~blocked
+            free[r, w] = ~free[r, w]
 
 
 @njit(cache=True, inline="always")
@@ -374,15 +371,16 @@ def _runs(free, cols, runs, row_first):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _search_arrays(capacity):  # pragma: no cover - compiled
+def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
     """Scratch arrays of one search over at most ``capacity`` runs."""
     return (
         np.zeros(capacity),  # cost
         np.zeros(capacity, np.int64),  # previous run
         np.zeros((capacity, 2)),  # entry point
         np.zeros(capacity, np.bool_),  # settled
-        np.zeros(4 * capacity + 8),  # heap costs
-        np.zeros(4 * capacity + 8, np.int64),  # heap runs
+        np.zeros(buckets, np.int64),  # queue: first entry of each bucket
+        np.zeros(4 * capacity + 8, np.int64),  # queue: next entry in the same bucket
+        np.zeros(4 * capacity + 8, np.int64),  # queue: the run of each entry
         np.zeros(capacity + 2, np.int64),  # corridor
     )
 
@@ -400,7 +398,7 @@ def _shortest(runs, row_first, count, grid, search, portals):  # pragma: no cove
     """Search start run → goal run; returns (found, path length through the corridor)."""
     cell = grid[0]
     points, cells = grid[5], grid[6]
-    cost, previous, entry, settled, heap_cost, heap_run, corridor = search
+    cost, previous, entry, settled, heads, links, members, corridor = search
     start = _run_at(runs, row_first, cells[0], cells[1])
     goal = _run_at(runs, row_first, cells[2], cells[3])
     if start < 0 or goal < 0:
@@ -408,13 +406,24 @@ def _shortest(runs, row_first, count, grid, search, portals):  # pragma: no cove
     for q in range(count):
         cost[q] = np.inf
         settled[q] = False
+    heads[:] = -1
     cost[start] = 0.0
     previous[start] = -1
     entry[start, 0], entry[start, 1] = points[0], points[1]
     gx, gy = points[2], points[3]
-    size = _push(heap_cost, heap_run, 0, math.hypot(gx - points[0], gy - points[1]), start)
-    while size > 0:
-        here, size = _pop(heap_cost, heap_run, size)
+    # A bucket queue ordered by (cost so far + straight line still to go) in cells:
+    # constant-time pushes and pops; within a bucket the order is last in, first out.
+    last = heads.shape[0] - 1
+    lowest = min(int(math.hypot(gx - points[0], gy - points[1]) / cell), last)
+    used = _enqueue(heads, links, members, 0, lowest, start)
+    while True:
+        while lowest <= last and heads[lowest] < 0:
+            lowest += 1
+        if lowest > last:
+            break
+        taken = heads[lowest]
+        heads[lowest] = links[taken]
+        here = members[taken]
         if settled[here]:
             continue
         settled[here] = True
@@ -433,14 +442,16 @@ def _shortest(runs, row_first, count, grid, search, portals):  # pragma: no cove
                 # Cross the shared edge where the straight line from the entry point allows.
                 y = max(r, other) * cell
                 x = min(max(entry[here, 0], lo * cell), (hi + 1) * cell)
-                step = math.hypot(x - entry[here, 0], y - entry[here, 1])
+                dx, dy = x - entry[here, 0], y - entry[here, 1]
+                step = math.sqrt(dx * dx + dy * dy)  # hypot's overflow care costs more than it saves here
                 if cost[here] + step < cost[q]:
                     cost[q] = cost[here] + step
                     previous[q] = here
                     entry[q, 0], entry[q, 1] = x, y
-                    # A*: ordered by the cost so far plus the straight line still to go.
-                    rest = math.hypot(gx - x, gy - y)
-                    size = _push(heap_cost, heap_run, size, cost[q] + rest, q)
+                    rest = math.sqrt((gx - x) * (gx - x) + (gy - y) * (gy - y))
+                    bucket = min(int((cost[q] + rest) / cell), last)
+                    used = _enqueue(heads, links, members, used, bucket, q)
+                    lowest = min(lowest, bucket)
     if not settled[goal]:
         return False, 0.0
     hops = 0
@@ -453,37 +464,11 @@ def _shortest(runs, row_first, count, grid, search, portals):  # pragma: no cove
 
 
 @njit(cache=True, inline="always")
-def _push(heap_cost, heap_run, size, value, run):  # pragma: no cover - compiled
-    i = size
-    heap_cost[i], heap_run[i] = value, run
-    while i > 0:
-        parent = (i - 1) // 2
-        if heap_cost[parent] <= heap_cost[i]:
-            break
-        heap_cost[parent], heap_cost[i] = heap_cost[i], heap_cost[parent]
-        heap_run[parent], heap_run[i] = heap_run[i], heap_run[parent]
-        i = parent
-    return size + 1
-
-
-@njit(cache=True, inline="always")
-def _pop(heap_cost, heap_run, size):  # pragma: no cover - compiled
-    top = heap_run[0]
-    size -= 1
-    heap_cost[0], heap_run[0] = heap_cost[size], heap_run[size]
-    i = 0
-    while True:
-        child = 2 * i + 1
-        if child >= size:
-            break
-        if child + 1 < size and heap_cost[child + 1] < heap_cost[child]:
-            child += 1
-        if heap_cost[i] <= heap_cost[child]:
-            break
-        heap_cost[child], heap_cost[i] = heap_cost[i], heap_cost[child]
-        heap_run[child], heap_run[i] = heap_run[i], heap_run[child]
-        i = child
-    return top, size
+def _enqueue(heads, links, members, used, bucket, run):  # pragma: no cover - compiled
+    members[used] = run
+    links[used] = heads[bucket]
+    heads[bucket] = used
+    return used + 1
 
 
 @njit(cache=True)
