@@ -59,6 +59,10 @@ class Grid:
             near the arena's edge, and the padding bits past ``cols``.
         start: ``(x, y)`` of the start, arena units.
         goal: ``(x, y)`` of the goal, arena units.
+        start_cell: ``(row, col)`` the search starts from: the start's cell or, when the
+            edge rule blocks it (a coarse grid puts its centre too near a wall), the
+            nearest cell the edge rule leaves free.
+        goal_cell: The same for the goal.
     """
 
     cell: float
@@ -69,6 +73,8 @@ class Grid:
     border: np.ndarray
     start: tuple[float, float]
     goal: tuple[float, float]
+    start_cell: tuple[int, int]
+    goal_cell: tuple[int, int]
 
     @classmethod
     def from_arena(cls, arena: Arena) -> Grid:
@@ -93,14 +99,22 @@ class Grid:
         weights = (_ONE << np.arange(64, dtype=np.uint64)).astype(np.uint64)
         border = (padded.reshape(rows, words, 64).astype(np.uint64) * weights).sum(axis=2, dtype=np.uint64)
         start, goal = arena.start, arena.goal
-        return cls(cell, rows, cols, words, spans, border, (start[0], start[1]), (goal[0], goal[1]))
-
-    def cell_of(self, x: float, y: float) -> tuple[int, int]:
-        """``(row, col)`` of the cell holding point ``(x, y)``, clamped to the grid."""
-        return (
-            min(max(int(y // self.cell), 0), self.rows - 1),
-            min(max(int(x // self.cell), 0), self.cols - 1),
+        ends = tuple(_end_cell(point, cell, centres_x, centres_y, blocked) for point in (start, goal))
+        return cls(
+            cell, rows, cols, words, spans, border, (start[0], start[1]), (goal[0], goal[1]), ends[0], ends[1]
         )
+
+
+def _end_cell(
+    point: tuple[float, float], cell: float, xs: np.ndarray, ys: np.ndarray, blocked: np.ndarray
+) -> tuple[int, int]:
+    row = min(max(int(point[1] // cell), 0), len(ys) - 1)
+    col = min(max(int(point[0] // cell), 0), len(xs) - 1)
+    if not blocked[row, col] or blocked.all():
+        return row, col
+    distance = (ys[:, None] - point[1]) ** 2 + (xs[None, :] - point[0]) ** 2
+    row, col = np.unravel_index(np.argmin(np.where(blocked, np.inf, distance)), blocked.shape)
+    return int(row), int(col)
 
 
 @lru_cache(maxsize=16)
@@ -149,8 +163,7 @@ def navigate(pop: Population, grid: Grid) -> Navigation:
 
 
 def _grid_args(grid: Grid) -> tuple:
-    sr, sc = grid.cell_of(*grid.start)
-    gr, gc = grid.cell_of(*grid.goal)
+    (sr, sc), (gr, gc) = grid.start_cell, grid.goal_cell
     return (
         grid.cell,
         grid.rows,

@@ -47,6 +47,13 @@ def test_open_floor_is_a_straight_line():
     assert nav.path_length[0] / nav.straight == pytest.approx(1.0, abs=1e-9)
 
 
+def test_start_near_a_wall_on_a_coarse_grid_is_still_free():
+    """Start 25 from the walls with radius 25: its 40-wide cell's centre is only 20 from them."""
+    arena = Arena("hall", 1000, 600, "cm", (25, 25), (975, 575), 25, 40)
+    nav = navigate(population(arena, [[]]), Grid.from_arena(arena))
+    assert nav.solvable.tolist() == [True]
+
+
 def test_a_wall_across_the_floor_blocks_it():
     nav = navigate(population(ARENA, [[("vwall", 500, 300, 20, 700, 0)]]), Grid.from_arena(ARENA))
     assert nav.solvable.tolist() == [False] and np.isnan(nav.path_length[0])
@@ -161,7 +168,7 @@ def test_free_cells_and_solvability_equal_the_reference_on_random_floors():
     for i, elements in enumerate(floors):
         expected = reference_free(arena, grid, elements)
         assert np.array_equal(free_cells(pop, grid, i), expected), i
-        answers.append(reachable(expected, grid.cell_of(*arena.start), grid.cell_of(*arena.goal)))
+        answers.append(reachable(expected, grid.start_cell, grid.goal_cell))
     assert nav.solvable.tolist() == answers
     assert 0 < sum(answers) < len(answers)  # both outcomes occur
     lengths = nav.path_length[nav.solvable]
