@@ -113,8 +113,8 @@ def _end_cell(
     if not blocked[row, col] or blocked.all():
         return row, col
     distance = (ys[:, None] - point[1]) ** 2 + (xs[None, :] - point[0]) ** 2
-    row, col = np.unravel_index(np.argmin(np.where(blocked, np.inf, distance)), blocked.shape)
-    return int(row), int(col)
+    nearest = np.unravel_index(np.argmin(np.where(blocked, np.inf, distance)), blocked.shape)
+    return int(nearest[0]), int(nearest[1])
 
 
 @lru_cache(maxsize=16)
