@@ -71,7 +71,7 @@ def best_documents(
                         problem.grammar, codons[row].tolist(), wraps=settings.wraps, consume=settings.consume
                     ),
                     fitness=float(evaluation.fitness[row]),
-                    terms={key: float(values[row]) for key, values in evaluation.terms.items()},
+                    terms={name: float(values[row]) for name, values in evaluation.terms.items()},
                     origin={
                         **origin,
                         "rank": len(documents) + 1,

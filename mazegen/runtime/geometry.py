@@ -67,6 +67,11 @@ class ElementTable:
         offset_radius = np.linalg.norm(offset, axis=-1).reshape(len(types), -1).max(axis=1, initial=0.0)
         return cls(n_parts, n_vertices, unit, offset, unit_radius, offset_radius)
 
+    @property
+    def shapes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(n_parts, n_vertices, unit, offset)``: what the compiled kernels place elements with."""
+        return self.n_parts, self.n_vertices, self.unit, self.offset
+
 
 def overlapping_pairs(
     table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray, params: np.ndarray
@@ -92,10 +97,7 @@ def overlapping_pairs(
     out = np.zeros(ids.shape[0], np.int32)
     if ids.shape[0]:
         _overlap_kernel(
-            table.n_parts,
-            table.n_vertices,
-            table.unit,
-            table.offset,
+            table.shapes,
             table.unit_radius,
             table.offset_radius,
             ids,
@@ -127,10 +129,7 @@ def elements_outside(
     out = np.zeros(ids.shape[0], np.int32)
     if ids.shape[0]:
         _outside_kernel(
-            table.n_parts,
-            table.n_vertices,
-            table.unit,
-            table.offset,
+            table.shapes,
             table.unit_radius,
             table.offset_radius,
             ids,
@@ -155,17 +154,7 @@ def element_bounds(
     ids, n_el, prm = _population(table, element_ids, n_elements, params)
     out = np.full((*ids.shape, 4), np.nan)
     if ids.shape[0]:
-        _bounds_kernel(
-            table.n_parts,
-            table.n_vertices,
-            table.unit,
-            table.offset,
-            ids,
-            n_el,
-            prm,
-            _blocks(ids.shape[0]),
-            out,
-        )
+        _bounds_kernel(table.shapes, ids, n_el, prm, _blocks(ids.shape[0]), out)
     return out
 
 
@@ -192,16 +181,16 @@ def world_vertices(table: ElementTable, element_ids: np.ndarray, params: np.ndar
     if ids.size and (ids.min() < 0 or ids.max() >= len(table.n_parts)):
         raise ValueError(f"element ids must lie in [0, {len(table.n_parts)})")
     wv = np.zeros((ids.shape[0], *table.unit.shape[1:]))
-    _world_elements(table.n_parts, table.n_vertices, table.unit, table.offset, ids, rows, wv)
+    _world_elements(table.shapes, ids, rows, wv)
     return wv
 
 
 @njit(cache=True)
-def _world_elements(n_parts, n_vertices, unit, offset, ids, params, wv):  # pragma: no cover - compiled
-    pbox = np.empty((ids.shape[0], unit.shape[1], 4))
+def _world_elements(shapes, ids, params, wv):  # pragma: no cover - compiled
+    pbox = np.empty((ids.shape[0], wv.shape[1], 4))
     ebox = np.empty((ids.shape[0], 4))
     for k in range(ids.shape[0]):
-        _world_element(n_parts, n_vertices, unit, offset, ids[k], params[k], wv, pbox, ebox, k)
+        _world_element(shapes, ids[k], params[k], wv, pbox, ebox, k)
 
 
 def _population(
@@ -303,11 +292,13 @@ def _reach(unit_radius, offset_radius, e, sx, sy):
 
 
 @njit(cache=True, inline="always")
-def _world_element(n_parts, n_vertices, unit, offset, e, row, wv, pbox, ebox, k):
+def _world_element(shapes, e, row, wv, pbox, ebox, k):
     """Write element ``e``'s world vertices, part boxes and box to ``wv[k]``, ``pbox[k]``, ``ebox[k]``.
 
-    ``row`` holds the element's x, y, sx, sy and rotation (radians).
+    ``shapes`` is :attr:`ElementTable.shapes`; ``row`` holds the element's x, y, sx, sy
+    and rotation (radians).
     """
+    n_parts, n_vertices, unit, offset = shapes
     x, y, sx, sy = row[0], row[1], row[2], row[3]
     s, c = _sincos(row[4])
     exmin = np.inf
@@ -408,9 +399,8 @@ def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox):
 
 
 @njit(parallel=True, cache=True)
-def _overlap_kernel(
-    n_parts, n_vertices, unit, offset, unit_radius, offset_radius, ids, n_el, params, n_blocks, out
-):
+def _overlap_kernel(shapes, unit_radius, offset_radius, ids, n_el, params, n_blocks, out):
+    n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
     n, k_max = ids.shape
     for block in prange(n_blocks):
         wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
@@ -441,18 +431,7 @@ def _overlap_kernel(
                 for side in range(2):
                     k = pairs[q, side]
                     if not placed[k]:
-                        _world_element(
-                            n_parts,
-                            n_vertices,
-                            unit,
-                            offset,
-                            ids[i, k],
-                            params[i, k],
-                            wv,
-                            pbox,
-                            ebox,
-                            k,
-                        )
+                        _world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, k)
                         placed[k] = True
                 a = pairs[q, 0]
                 b = pairs[q, 1]
@@ -463,43 +442,20 @@ def _overlap_kernel(
 
 
 @njit(parallel=True, cache=True)
-def _bounds_kernel(n_parts, n_vertices, unit, offset, ids, n_el, params, n_blocks, out):
+def _bounds_kernel(shapes, ids, n_el, params, n_blocks, out):
+    unit = shapes[2]
     n, k_max = ids.shape
     for block in prange(n_blocks):
         wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
         pbox = np.empty((k_max, unit.shape[1], 4))
         for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
             for k in range(n_el[i]):
-                _world_element(
-                    n_parts,
-                    n_vertices,
-                    unit,
-                    offset,
-                    ids[i, k],
-                    params[i, k],
-                    wv,
-                    pbox,
-                    out[i],
-                    k,
-                )
+                _world_element(shapes, ids[i, k], params[i, k], wv, pbox, out[i], k)
 
 
 @njit(parallel=True, cache=True)
-def _outside_kernel(
-    n_parts,
-    n_vertices,
-    unit,
-    offset,
-    unit_radius,
-    offset_radius,
-    ids,
-    n_el,
-    params,
-    width,
-    height,
-    n_blocks,
-    out,
-):
+def _outside_kernel(shapes, unit_radius, offset_radius, ids, n_el, params, width, height, n_blocks, out):
+    unit = shapes[2]
     n = ids.shape[0]
     for block in prange(n_blocks):
         wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
@@ -513,18 +469,7 @@ def _outside_kernel(
                 r = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
                 if x - r >= 0.0 and y - r >= 0.0 and x + r <= width and y + r <= height:
                     continue  # the bounding circle is inside: no need to transform
-                _world_element(
-                    n_parts,
-                    n_vertices,
-                    unit,
-                    offset,
-                    ids[i, k],
-                    params[i, k],
-                    wv,
-                    pbox,
-                    ebox,
-                    0,
-                )
+                _world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, 0)
                 count += (
                     (ebox[0, 0] < 0.0) | (ebox[0, 1] < 0.0) | (ebox[0, 2] > width) | (ebox[0, 3] > height)
                 )

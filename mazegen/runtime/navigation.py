@@ -142,13 +142,12 @@ class Navigation:
 
 def navigate(pop: Population, grid: Grid) -> Navigation:
     """Solvability and path length of every individual of ``pop`` on ``grid``."""
-    table = pop.table
     n = pop.size
     solvable = np.zeros(n, dtype=np.bool_)
     length = np.full(n, np.nan)
     if n:
         _navigate_all(
-            (table.n_parts, table.n_vertices, table.unit, table.offset),
+            pop.table.shapes,
             np.ascontiguousarray(pop.element_ids, np.int32),
             np.ascontiguousarray(pop.n_elements, np.int32),
             np.ascontiguousarray(pop.params, np.float64),
@@ -176,13 +175,13 @@ def _grid_args(grid: Grid) -> tuple:
 
 
 def free_cells(pop: Population, grid: Grid, index: int) -> np.ndarray:
-    """``bool[rows, cols]`` configuration-space free cells of one individual (for drawing and tests)."""
+    """``bool[rows, cols]`` configuration-space free cells of one individual (to inspect or test a floor)."""
     table = pop.table
     free = np.zeros((grid.rows, grid.words), np.uint64)
     parts, vertices = table.unit.shape[1:3]
     raster = _raster_arrays(grid.rows, grid.words, pop.element_ids.shape[1], parts, vertices)
     _cspace(
-        (table.n_parts, table.n_vertices, table.unit, table.offset),
+        table.shapes,
         np.ascontiguousarray(pop.element_ids[index], np.int32),
         int(pop.n_elements[index]),
         np.ascontiguousarray(pop.params[index], np.float64),
@@ -213,12 +212,12 @@ def _raster_arrays(rows, words, slots, parts, vertices):  # pragma: no cover - c
 
 
 @njit(cache=True, parallel=True)
-def _navigate_all(table, ids, n_el, params, valid, grid, blocks, solvable, length):  # pragma: no cover
+def _navigate_all(shapes, ids, n_el, params, valid, grid, blocks, solvable, length):  # pragma: no cover
     n = ids.shape[0]
     rows, cols, border = grid[1], grid[2], grid[4]
     words = border.shape[1]
     for block in prange(blocks):
-        raster = _raster_arrays(rows, words, ids.shape[1], table[2].shape[1], table[2].shape[2])
+        raster = _raster_arrays(rows, words, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
         free = np.zeros((rows, words), np.uint64)
         capacity = rows * (cols // 2 + 1)
         runs = np.zeros((capacity, 3), np.int64)  # row, first column, last column
@@ -228,7 +227,7 @@ def _navigate_all(table, ids, n_el, params, valid, grid, blocks, solvable, lengt
         for i in range(block * n // blocks, (block + 1) * n // blocks):
             if not valid[i]:
                 continue
-            _cspace(table, ids[i], n_el[i], params[i], grid, raster, free)
+            _cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
             count = _runs(free, cols, runs, row_first)
             found, total = _shortest(runs, row_first, count, grid, search, portals)
             solvable[i] = found
@@ -237,16 +236,16 @@ def _navigate_all(table, ids, n_el, params, valid, grid, blocks, solvable, lengt
 
 
 @njit(cache=True)
-def _cspace(table, ids, count, params, grid, raster, free):  # pragma: no cover - compiled
+def _cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover - compiled
     """Free configuration-space cells of one individual, as bit rows in ``free``."""
-    n_parts, n_vertices, unit, offset = table
+    n_parts, n_vertices = shapes[0], shapes[1]
     cell, rows, cols, spans, border = grid[0], grid[1], grid[2], grid[3], grid[4]
     occupied, wide, wv, pbox, ebox = raster
     words = border.shape[1]
     occupied[:, :] = 0
     for k in range(count):
         e = ids[k]
-        _world_element(n_parts, n_vertices, unit, offset, e, params[k], wv, pbox, ebox, k)
+        _world_element(shapes, e, params[k], wv, pbox, ebox, k)
         for p in range(n_parts[e]):
             _mark_part(wv, k, p, n_vertices[e, p], pbox[k, p], cell, rows, cols, occupied)
     # Disc dilation: an occupied row blocks the rows dy away, widened by the disc's half-width there.
