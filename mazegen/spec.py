@@ -131,19 +131,49 @@ class Scenario:
     placement: GrammarPlacement | None = None
 
 
+REWARDS = frozenset({"count", "difficulty", "metric", "diversity", "coverage"})
+"""Term kinds added to the fitness; the others are penalties, subtracted."""
+
+PATH_METRICS = (
+    "path_length",
+    "clearance",
+    "visibility",
+    "dispersion",
+    "dimension",
+    "tortuosity",
+    "path_ratio",
+    "narrowest",
+)
+"""Metrics of the robot's path a ``metric`` term can target (see docs/language.md §6)."""
+
+DIFFICULTY_LEVELS = {"easy": (0.0, 20.0), "medium": (20.0, 40.0), "hard": (40.0, 100.0)}
+"""Difficulty score ranges of the named levels."""
+
+
 @dataclass(frozen=True)
 class FitnessTerm:
     """One term of the fitness.
 
-    ``kind`` is one of ``count``, ``overlap``, ``size_limit``, ``outside``, ``solvable``.
+    ``kind`` is one of ``count``, ``overlap``, ``size_limit``, ``outside``,
+    ``solvable``, ``difficulty``, ``metric``, ``diversity`` or ``coverage``.
     ``weight`` multiplies the term (penalties are subtracted). ``limit`` is the
     size limit. ``reject`` makes an individual invalid instead of penalised.
+    ``target`` is the ``(low, high)`` range a difficulty, metric or coverage term
+    rewards closeness to; ``metric`` names the metric of a ``metric`` term, or
+    ``entropy`` / ``types`` for a diversity term.
     """
 
     kind: str
     weight: float = 1.0
     limit: float | None = None
     reject: bool = False
+    target: tuple[float, float] | None = None
+    metric: str | None = None
+
+    @property
+    def key(self) -> str:
+        """The term's name in fitness breakdowns: its kind, or its metric's name."""
+        return self.metric if self.kind == "metric" and self.metric else self.kind
 
 
 @dataclass(frozen=True)
@@ -190,6 +220,11 @@ class Spec:
     def scenario_elements(self) -> tuple[ElementType, ...]:
         """The element types the scenario uses, in its order (id = index)."""
         return tuple(self.element(name) for name in self.scenario.elements)
+
+    @property
+    def reads_difficulty(self) -> bool:
+        """Whether a fitness term reads the difficulty metrics (not just solvability)."""
+        return any(term.kind in ("difficulty", "metric") for term in self.fitness)
 
     def with_evolution(self, **changes: Any) -> Spec:
         """Return a copy with some evolution settings replaced."""
@@ -264,7 +299,7 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
             tuple(placement["sizes"]), float(placement["scale"]), tuple(placement["positions"])
         ),
     )
-    fitness = tuple(FitnessTerm(**t) for t in data["fitness"])
+    fitness = tuple(FitnessTerm(**{**t, "target": _optional_pair(t.get("target"))}) for t in data["fitness"])
     return Spec(
         data["name"], data["source"], elements, arena, scenario, fitness, Evolution(**data["evolution"])
     )

@@ -6,7 +6,7 @@ import re
 from typing import Any
 
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
-from mazegen.spec import Arena, Evolution, FitnessTerm, GrammarPlacement, Scenario
+from mazegen.spec import DIFFICULTY_LEVELS, Arena, Evolution, FitnessTerm, GrammarPlacement, Scenario
 
 _WORD = re.compile(r"\w")
 
@@ -175,23 +175,47 @@ def convert_fitness(decl: Any | None) -> tuple[FitnessTerm, ...]:
     seen: dict[str, Any] = {}
     terms = []
     for term in decl.terms:
-        kind = {"size": "size_limit"}.get(term.kind, term.kind)
-        if kind in seen:
-            fail(term, f"duplicate fitness term '{term.kind}' (first given at {where(seen[kind])})")
-        seen[kind] = term
-        weight = term.weight if term.weight is not None else 1.0
-        if weight < 0:
-            fail(term, f"weight must not be negative, got {weight:g}")
-        limit = getattr(term, "limit", None)
-        if limit is not None and limit <= 0:
-            fail(term, f"size limit must be positive, got {limit:g}")
-        reject = bool(getattr(term, "reject", False))
-        if kind == "size_limit" and getattr(term, "allow", False):
-            fail(term, "a size limit needs 'reject' or 'penalty W'")
-        if kind == "outside" and getattr(term, "allow", False):
-            weight = 0.0
-        terms.append(FitnessTerm(kind, weight, limit, reject))
+        converted = _fitness_term(term)
+        key = converted.key
+        if key in seen:
+            fail(term, f"duplicate fitness term '{key}' (first given at {where(seen[key])})")
+        seen[key] = term
+        terms.append(converted)
     return tuple(terms)
+
+
+def _fitness_term(term: Any) -> FitnessTerm:
+    metric = getattr(term, "metric", None) or getattr(term, "measure", None) or None
+    kind = "metric" if getattr(term, "metric", None) else {"size": "size_limit"}.get(term.kind, term.kind)
+    weight = term.weight if term.weight is not None else 1.0
+    if weight < 0:
+        fail(term, f"weight must not be negative, got {weight:g}")
+    limit = getattr(term, "limit", None)
+    if limit is not None and limit <= 0:
+        fail(term, f"size limit must be positive, got {limit:g}")
+    reject = bool(getattr(term, "reject", False))
+    if kind == "size_limit" and getattr(term, "allow", False):
+        fail(term, "a size limit needs 'reject' or 'penalty W'")
+    if kind == "outside" and getattr(term, "allow", False):
+        weight = 0.0
+    return FitnessTerm(kind, weight, limit, reject, _target(term), metric)
+
+
+def _target(term: Any) -> tuple[float, float] | None:
+    """The range a term rewards closeness to: a difficulty level's or the one written."""
+    level = getattr(term, "level", None)
+    if level:
+        return DIFFICULTY_LEVELS[level]
+    span = getattr(term, "range", None)
+    if span is None:
+        return None
+    if span.low >= span.high:
+        fail(span, f"a target range needs low < high, got {span.low:g}..{span.high:g}")
+    if span.low < 0:
+        fail(span, f"a target range cannot go below 0, got {span.low:g}..{span.high:g}")
+    if getattr(term, "kind", None) == "coverage" and span.high > 1:
+        fail(span, f"coverage is a fraction of the floor (0..1), got {span.low:g}..{span.high:g}")
+    return (float(span.low), float(span.high))
 
 
 def convert_evolution(decl: Any | None) -> Evolution:

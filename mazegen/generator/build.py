@@ -10,7 +10,7 @@ from jinja2 import Environment, PackageLoader, StrictUndefined
 from mazegen import __version__
 from mazegen.fileio import write_atomic
 from mazegen.generator.grammar import scenario_rules
-from mazegen.spec import FitnessTerm, Spec
+from mazegen.spec import REWARDS, FitnessTerm, Spec
 
 ARTIFACTS = ("grammar.bnf", "fitness.py", "experiment.py", "spec.json")
 
@@ -40,6 +40,7 @@ def _environment() -> Environment:
 
 def _metric(term: FitnessTerm) -> tuple[str, str]:
     """The metric call of a term and a short note on where it comes from."""
+    target = "" if term.target is None else ", {!r}, {!r}".format(*term.target)
     if term.kind == "count":
         return "metrics.element_count(pop)", "paper eq. 1: number of elements"
     if term.kind == "overlap":
@@ -51,6 +52,19 @@ def _metric(term: FitnessTerm) -> tuple[str, str]:
         )
     if term.kind == "solvable":
         return "metrics.unsolvable(pop)", "no path from start to goal for the robot"
+    if term.kind == "difficulty":
+        return f"metrics.closeness(metrics.difficulty(pop){target})", "closeness to the difficulty target"
+    if term.kind == "metric":
+        return (
+            f"metrics.closeness(metrics.path_metric(pop, {term.metric!r}){target})",
+            f"closeness of the path's {term.metric} to its target",
+        )
+    if term.kind == "diversity":
+        if term.metric == "entropy":
+            return "metrics.type_entropy(pop)", "entropy of the element types, bits"
+        return "metrics.distinct_types(pop)", "number of distinct element types"
+    if term.kind == "coverage":
+        return f"metrics.closeness(metrics.coverage(pop){target})", "occupied fraction near its target"
     return "metrics.elements_outside(pop)", "elements not wholly inside the arena"
 
 
@@ -61,10 +75,10 @@ def fitness_lines(spec: Spec) -> tuple[list[TermLine], list[TermLine]]:
     for term in spec.fitness:
         call, note = _metric(term)
         if term.reject:
-            rejecting.append(TermLine(term.kind, call, note + " (reject)"))
+            rejecting.append(TermLine(term.key, call, note + " (reject)"))
         elif term.weight != 0:
-            sign = "" if term.kind == "count" else "-"
-            penalised.append(TermLine(term.kind, f"{sign}{float(term.weight)!r} * {call}", note))
+            sign = "" if term.kind in REWARDS else "-"
+            penalised.append(TermLine(term.key, f"{sign}{float(term.weight)!r} * {call}", note))
     return penalised, rejecting
 
 

@@ -61,3 +61,51 @@ def tortuosity(pop: Population) -> np.ndarray:
     """Path length over the straight-line distance from start to goal (1 = straight), NaN when unsolvable."""
     nav = pop.navigation
     return nav.path_length / nav.straight
+
+
+def difficulty(pop: Population) -> np.ndarray:
+    """Difficulty score, 0 (open) to 100 (hard), NaN when unsolvable (see :mod:`difficulty`)."""
+    return pop.survey.difficulty
+
+
+def path_metric(pop: Population, name: str) -> np.ndarray:
+    """One difficulty metric of the robot's path (``tortuosity``, ``clearance``…), NaN when unsolvable."""
+    return pop.survey.metric(name)
+
+
+def coverage(pop: Population) -> np.ndarray:
+    """Fraction of the arena's grid cells the elements occupy."""
+    return pop.navigation.coverage
+
+
+def closeness(values: np.ndarray, low: float, high: float) -> np.ndarray:
+    """1 inside ``[low, high]``, ``exp(-d / (high - low))`` at distance ``d`` outside, 0 for NaN."""
+    distance = np.maximum(low - values, 0.0) + np.maximum(values - high, 0.0)
+    return np.nan_to_num(np.exp(-distance / (high - low)), nan=0.0)
+
+
+def distinct_types(pop: Population) -> np.ndarray:
+    """Number of distinct element types in each scenario."""
+    return _type_counts(pop.element_ids, pop.n_elements, pop.table.n_parts.shape[0])[0]
+
+
+def type_entropy(pop: Population) -> np.ndarray:
+    """Shannon entropy, in bits, of the element types of each scenario (0 for one type)."""
+    return _type_counts(pop.element_ids, pop.n_elements, pop.table.n_parts.shape[0])[1]
+
+
+@njit(cache=True, parallel=True)
+def _type_counts(ids, n_elements, n_types):  # pragma: no cover - compiled
+    distinct = np.zeros(ids.shape[0])
+    entropy = np.zeros(ids.shape[0])
+    for i in prange(ids.shape[0]):
+        counts = np.zeros(n_types, np.int64)
+        n = n_elements[i]
+        for k in range(n):
+            counts[ids[i, k]] += 1
+        for t in range(n_types):
+            if counts[t]:
+                distinct[i] += 1
+                p = counts[t] / n
+                entropy[i] -= p * np.log2(p)
+    return distinct, entropy

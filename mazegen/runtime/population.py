@@ -19,6 +19,7 @@ from numba import njit, prange
 from mazegen.spec import Arena, Spec
 
 if TYPE_CHECKING:
+    from mazegen.runtime.difficulty import Survey
     from mazegen.runtime.geometry import ElementTable
     from mazegen.runtime.mapping import PopulationMap
     from mazegen.runtime.navigation import Navigation
@@ -44,6 +45,7 @@ class Population:
         valid: ``bool[N]`` whether the genome mapped to a complete scenario.
         table: Geometry of the element types.
         arena: The floor the scenarios are placed on.
+        surveyed: The fitness reads difficulty metrics: search paths once, with them.
     """
 
     element_ids: np.ndarray
@@ -52,6 +54,7 @@ class Population:
     valid: np.ndarray
     table: ElementTable
     arena: Arena
+    surveyed: bool = False
 
     @cached_property
     def params(self) -> np.ndarray:
@@ -61,9 +64,17 @@ class Population:
     @cached_property
     def navigation(self) -> Navigation:
         """Solvability and path of every individual, searched on the arena's grid when first read."""
-        from mazegen.runtime.navigation import grid_of, navigate
+        from mazegen.runtime.cspace import grid_of
+        from mazegen.runtime.navigation import navigate
 
-        return navigate(self, grid_of(self.arena))
+        return self.survey.navigation if self.surveyed else navigate(self, grid_of(self.arena))
+
+    @cached_property
+    def survey(self) -> Survey:
+        """Navigation plus the difficulty metrics of every individual, when first read."""
+        from mazegen.runtime.difficulty import survey
+
+        return survey(self)
 
     @property
     def size(self) -> int:
@@ -221,4 +232,12 @@ def decode(
     grammar = spec.scenario.placement
     scale = None if grammar is None else grammar.scale
     placement = partial(placement_params, mapped, genes, ranges, spec.arena, scale, out)
-    return Population(mapped.element_ids, mapped.n_elements, placement, mapped.valid, table, spec.arena)
+    return Population(
+        mapped.element_ids,
+        mapped.n_elements,
+        placement,
+        mapped.valid,
+        table,
+        spec.arena,
+        spec.reads_difficulty,
+    )

@@ -169,7 +169,7 @@ def population_from_document(
             math.radians(rotation),
         )
     count = np.array([len(elements)], dtype=np.int32)
-    return Population(ids, count, lambda: params, np.array([True]), table, spec.arena)
+    return Population(ids, count, lambda: params, np.array([True]), table, spec.arena, spec.reads_difficulty)
 
 
 def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> dict[str, Any]:

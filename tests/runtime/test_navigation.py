@@ -13,8 +13,9 @@ import shapely
 from shapely.geometry import Polygon, box
 
 import mazegen
+from mazegen.runtime.cspace import Grid, free_cells
 from mazegen.runtime.geometry import ElementTable, world_parts
-from mazegen.runtime.navigation import Grid, free_cells, navigate
+from mazegen.runtime.navigation import navigate
 from mazegen.runtime.population import Population
 from mazegen.spec import Arena
 from tests.conftest import EXAMPLES

@@ -1,0 +1,298 @@
+"""The configuration space: where the robot's centre may be, as bit rows per individual.
+
+1. **Occupancy**: every convex part of every element marks the grid cells it
+   touches (conservative: a wall thinner than a cell still blocks its cells).
+   Cell ``(i, j)`` is ``[j c, (j+1) c] x [i c, (i+1) c]`` for the arena's cell ``c``.
+2. **Configuration space**: a cell is blocked when an occupied cell's centre lies
+   within the robot radius of its centre (a disc dilation), or when its centre is
+   closer to the arena's edge than the radius.
+
+Rows are bit sets of ``uint64`` words (bit ``j % 64`` of word ``j // 64`` is column ``j``),
+so a whole row is dilated or tested in a few word operations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit
+
+from mazegen.runtime.geometry import _world_element
+
+if TYPE_CHECKING:
+    from mazegen.runtime.population import Population
+    from mazegen.spec import Arena
+
+ONE = np.uint64(1)
+ALL = np.uint64(0xFFFFFFFFFFFFFFFF)
+_DEBRUIJN = np.uint64(0x03F79D71B4CB0A89)
+_DEBRUIJN_INDEX = np.zeros(64, np.int64)
+for _bit in range(64):
+    _DEBRUIJN_INDEX[((1 << _bit) * 0x03F79D71B4CB0A89 & 0xFFFFFFFFFFFFFFFF) >> 58] = _bit
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The occupancy grid of an arena and what every individual shares on it.
+
+    Attributes:
+        cell: Cell size in arena units.
+        rows: Cells along y.
+        cols: Cells along x.
+        words: ``uint64`` words per row.
+        spans: ``int64[R + 1]``: half-width in cells of the robot's disc ``dy`` rows away.
+        border: ``uint64[rows, words]``: cells the robot's centre cannot occupy
+            near the arena's edge, and the padding bits past ``cols``.
+        start: ``(x, y)`` of the start, arena units.
+        goal: ``(x, y)`` of the goal, arena units.
+        start_cell: ``(row, col)`` the search starts from: the start's cell or, when the
+            edge rule blocks it (a coarse grid puts its centre too near a wall), the
+            nearest cell the edge rule leaves free.
+        goal_cell: The same for the goal.
+    """
+
+    cell: float
+    rows: int
+    cols: int
+    words: int
+    spans: np.ndarray
+    border: np.ndarray
+    start: tuple[float, float]
+    goal: tuple[float, float]
+    start_cell: tuple[int, int]
+    goal_cell: tuple[int, int]
+
+    @classmethod
+    def from_arena(cls, arena: Arena) -> Grid:
+        """The grid of ``arena`` at its cell size (:attr:`Arena.cell`)."""
+        cell = arena.cell
+        cols = max(1, math.ceil(arena.width / cell - 1e-9))
+        rows = max(1, math.ceil(arena.height / cell - 1e-9))
+        words = (cols + 63) // 64
+        reach = arena.robot_radius / cell
+        spans = np.array(
+            [math.floor(math.sqrt(max(reach * reach - dy * dy, 0.0)) + 1e-9) for dy in range(int(reach) + 1)],
+            dtype=np.int64,
+        )
+        centres_x = (np.arange(cols) + 0.5) * cell
+        centres_y = (np.arange(rows) + 0.5) * cell
+        r = arena.robot_radius
+        bad_col = (centres_x < r) | (centres_x > arena.width - r)
+        bad_row = (centres_y < r) | (centres_y > arena.height - r)
+        blocked = bad_row[:, None] | bad_col[None, :]
+        padded = np.ones((rows, words * 64), dtype=bool)
+        padded[:, :cols] = blocked
+        weights = (ONE << np.arange(64, dtype=np.uint64)).astype(np.uint64)
+        border = (padded.reshape(rows, words, 64).astype(np.uint64) * weights).sum(axis=2, dtype=np.uint64)
+        start, goal = arena.start, arena.goal
+        ends = tuple(_end_cell(point, cell, centres_x, centres_y, blocked) for point in (start, goal))
+        return cls(
+            cell, rows, cols, words, spans, border, (start[0], start[1]), (goal[0], goal[1]), ends[0], ends[1]
+        )
+
+
+def _end_cell(
+    point: tuple[float, float], cell: float, xs: np.ndarray, ys: np.ndarray, blocked: np.ndarray
+) -> tuple[int, int]:
+    row = min(max(int(point[1] // cell), 0), len(ys) - 1)
+    col = min(max(int(point[0] // cell), 0), len(xs) - 1)
+    if not blocked[row, col] or blocked.all():
+        return row, col
+    distance = (ys[:, None] - point[1]) ** 2 + (xs[None, :] - point[0]) ** 2
+    nearest = np.unravel_index(np.argmin(np.where(blocked, np.inf, distance)), blocked.shape)
+    return int(nearest[0]), int(nearest[1])
+
+
+@lru_cache(maxsize=16)
+def grid_of(arena: Arena) -> Grid:
+    """The grid of ``arena``, built once per arena."""
+    return Grid.from_arena(arena)
+
+
+@lru_cache(maxsize=16)
+def point_grid_of(arena: Arena) -> Grid:
+    """The grid of ``arena``, same cells, for a robot of radius 0 (a point)."""
+    return Grid.from_arena(replace(arena, robot_radius=0.0, grid=arena.cell))
+
+
+def grid_args(grid: Grid) -> tuple:
+    """The grid as the tuple the compiled kernels take."""
+    (sr, sc), (gr, gc) = grid.start_cell, grid.goal_cell
+    return (
+        grid.cell,
+        grid.rows,
+        grid.cols,
+        grid.spans,
+        grid.border,
+        np.array([*grid.start, *grid.goal], dtype=np.float64),
+        np.array([sr, sc, gr, gc], dtype=np.int64),
+    )
+
+
+def free_cells(pop: Population, grid: Grid, index: int) -> np.ndarray:
+    """``bool[rows, cols]`` configuration-space free cells of one individual (to inspect or test a floor)."""
+    table = pop.table
+    free = np.zeros((grid.rows, grid.words), np.uint64)
+    parts, vertices = table.unit.shape[1:3]
+    raster = raster_arrays(grid.rows, grid.words, pop.element_ids.shape[1], parts, vertices)
+    cspace(
+        table.shapes,
+        np.ascontiguousarray(pop.element_ids[index], np.int32),
+        int(pop.n_elements[index]),
+        np.ascontiguousarray(pop.params[index], np.float64),
+        grid_args(grid),
+        raster,
+        free,
+    )
+    return unpack(free, grid.cols)
+
+
+def unpack(bits: np.ndarray, cols: int) -> np.ndarray:
+    """``bool[rows, cols]`` from rows of ``uint64`` words."""
+    as_bytes = bits.astype("<u8").view(np.uint8).reshape(bits.shape[0], -1)
+    return np.unpackbits(as_bytes, axis=1, bitorder="little")[:, :cols].astype(bool)
+
+
+@njit(cache=True)
+def raster_arrays(rows, words, slots, parts, vertices):  # pragma: no cover - compiled
+    """Scratch of one rasterisation: occupied rows, a widened row, world vertices and boxes."""
+    slots = max(slots, 1)
+    return (
+        np.zeros((rows, words), np.uint64),
+        np.zeros(words, np.uint64),
+        np.zeros((slots, parts, vertices, 2)),
+        np.zeros((slots, parts, 4)),
+        np.zeros((slots, 4)),
+    )
+
+
+@njit(cache=True)
+def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover - compiled
+    """Free configuration-space cells of one individual, as bit rows in ``free``.
+
+    Returns the number of cells the elements occupy (before the dilation).
+    """
+    n_parts, n_vertices = shapes[0], shapes[1]
+    cell, rows, cols, spans, border = grid[0], grid[1], grid[2], grid[3], grid[4]
+    occupied, wide, wv, pbox, ebox = raster
+    words = border.shape[1]
+    occupied[:, :] = 0
+    for k in range(count):
+        e = ids[k]
+        _world_element(shapes, e, params[k], wv, pbox, ebox, k)
+        for p in range(n_parts[e]):
+            _mark_part(wv, k, p, n_vertices[e, p], pbox[k, p], cell, rows, cols, occupied)
+    # Disc dilation: an occupied row blocks the rows dy away, widened by the disc's half-width there.
+    free[:, :] = border
+    for source in range(rows):
+        empty = True
+        for w in range(words):
+            empty &= occupied[source, w] == 0
+        if empty:
+            continue
+        for dy in range(spans.shape[0]):
+            _widen(occupied[source], spans[dy], wide)
+            for r in (source - dy, source + dy):
+                if 0 <= r < rows:
+                    for w in range(words):
+                        free[r, w] |= wide[w]
+    for r in range(rows):
+        for w in range(words):
+            free[r, w] = ~free[r, w]
+    occupied_cells = 0
+    for r in range(rows):
+        for w in range(words):
+            occupied_cells += popcount(occupied[r, w])
+    return occupied_cells
+
+
+@njit(cache=True, inline="always")
+def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cover - compiled
+    """Set every cell that convex part ``p`` of element ``k`` touches."""
+    if box[2] < 0.0 or box[3] < 0.0 or box[0] > cols * cell or box[1] > rows * cell:
+        return
+    r0 = max(math.floor(box[1] / cell), 0)
+    r1 = min(math.floor(box[3] / cell), rows - 1)
+    for r in range(r0, r1 + 1):
+        y0 = max(r * cell, box[1])
+        y1 = min((r + 1) * cell, box[3])
+        lo = np.inf
+        hi = -np.inf
+        for v in range(nv):
+            u = v + 1 if v + 1 < nv else 0
+            ax, ay, bx, by = wv[k, p, v, 0], wv[k, p, v, 1], wv[k, p, u, 0], wv[k, p, u, 1]
+            # The edge clipped to the band [y0, y1]: its x-extent there.
+            if ay > by:
+                ax, ay, bx, by = bx, by, ax, ay
+            if by < y0 or ay > y1:
+                continue
+            if by - ay > 0.0:
+                ta = max((y0 - ay) / (by - ay), 0.0)
+                tb = min((y1 - ay) / (by - ay), 1.0)
+                xa = ax + (bx - ax) * ta
+                xb = ax + (bx - ax) * tb
+            else:
+                xa, xb = ax, bx
+            lo = min(lo, xa, xb)
+            hi = max(hi, xa, xb)
+        if hi < 0.0 or lo > cols * cell or hi < lo:
+            continue
+        c0 = max(math.floor(lo / cell), 0)
+        c1 = min(math.floor(hi / cell), cols - 1)
+        _set_span(occupied[r], c0, c1)
+
+
+@njit(cache=True, inline="always")
+def _set_span(row, first, last):  # pragma: no cover - compiled
+    """Set columns ``first..last`` of a bit row."""
+    for w in range(first >> 6, (last >> 6) + 1):
+        lo = first - 64 * w if w == first >> 6 else 0
+        hi = last - 64 * w if w == last >> 6 else 63
+        width = hi - lo + 1
+        mask = ALL if width == 64 else ((ONE << np.uint64(width)) - ONE) << np.uint64(lo)
+        row[w] |= mask
+
+
+@njit(cache=True, inline="always")
+def _widen(row, span, out):  # pragma: no cover - compiled
+    """``out`` = ``row`` with every set bit spread ``span`` columns to each side."""
+    words = row.shape[0]
+    for w in range(words):
+        out[w] = row[w]
+    for t in range(1, span + 1):
+        shift = np.uint64(t % 64)
+        back = np.uint64(64 - t % 64)
+        whole = t // 64
+        for w in range(words):
+            up = np.uint64(0)
+            down = np.uint64(0)
+            src = w - whole
+            if 0 <= src < words:
+                up = row[src] << shift if shift else row[src]
+                if shift and src - 1 >= 0:
+                    up |= row[src - 1] >> back
+            src = w + whole
+            if 0 <= src < words:
+                down = row[src] >> shift if shift else row[src]
+                if shift and src + 1 < words:
+                    down |= row[src + 1] << back
+            out[w] |= up | down
+
+
+@njit(cache=True, inline="always")
+def lowest_bit(x):  # pragma: no cover - compiled
+    """Index of the lowest set bit of a non-zero ``uint64`` (de Bruijn multiplication)."""
+    return _DEBRUIJN_INDEX[((x & (~x + ONE)) * _DEBRUIJN) >> np.uint64(58)]
+
+
+@njit(cache=True, inline="always")
+def popcount(x):  # pragma: no cover - compiled
+    """Number of set bits of a ``uint64`` (SWAR: bits summed in pairs, nibbles, then bytes)."""
+    x = x - ((x >> np.uint64(1)) & np.uint64(0x5555555555555555))
+    x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
+    x = (x + (x >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
+    return int((x * np.uint64(0x0101010101010101)) >> np.uint64(56))
