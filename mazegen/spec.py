@@ -146,7 +146,7 @@ PATH_METRICS = (
 )
 """Metrics of the robot's path a ``metric`` term can target (see docs/language.md §6)."""
 
-DIFFICULTY_LEVELS = {"easy": (0.0, 20.0), "medium": (20.0, 40.0), "hard": (40.0, 100.0)}
+DIFFICULTY_LEVELS = {"easy": (0.0, 10.0), "medium": (10.0, 25.0), "hard": (25.0, 100.0)}
 """Difficulty score ranges of the named levels."""
 
 

@@ -11,6 +11,7 @@ from mazegen.cli.map import map_command
 from mazegen.cli.render import render
 from mazegen.cli.run import run
 from mazegen.cli.score import score
+from mazegen.cli.suite import suite
 
 
 @click.group(context_settings={"help_option_names": ["-h", "--help"]})
@@ -19,5 +20,5 @@ def main() -> None:
     """Generate robot-navigation test scenarios from .maze specs by grammatical evolution."""
 
 
-for command in (check, build, run, map_command, score, render):
+for command in (check, build, run, suite, map_command, score, render):
     main.add_command(command)

@@ -28,14 +28,33 @@ def score(spec: Path, scenario: Path) -> None:
         problem = Problem.from_build_dir(Path(temp))
         population = population_from_document(resolved, problem.table, document, str(scenario))
         fitness, terms = problem.score(population)
-        navigation = population.navigation
+        measured = population.survey.summary(0)
     value = float(fitness[0])
     click.echo(f"fitness\t{value:g}" if value != float("-inf") else "fitness\tinvalid (rejected by the spec)")
     click.echo(f"elements\t{int(population.n_elements[0])}")
     for key, values in terms.items():
         click.echo(f"{key}\t{float(values[0]) + 0.0:g}")  # + 0.0 turns -0.0 into 0.0
-    click.echo(f"solvable\t{'yes' if navigation.solvable[0] else 'no'}")
-    if navigation.solvable[0]:
-        length = float(navigation.path_length[0])
-        click.echo(f"path length\t{length:.1f} {resolved.arena.unit} ({length / navigation.cell:.1f} cells)")
-        click.echo(f"tortuosity\t{length / navigation.straight:.3f}")
+    for line in metric_lines(measured, resolved.arena.unit, resolved.arena.cell):
+        click.echo(line)
+
+
+def metric_lines(measured: dict[str, bool | float | None], unit: str, cell: float) -> list[str]:
+    """The solvability, coverage and difficulty metrics of a scenario, one tab-separated line each."""
+    lines = [f"solvable\t{'yes' if measured['solvable'] else 'no'}", f"occupied fraction\t{measured['coverage']:.3f}"]
+    if not measured["solvable"]:
+        return lines
+    length = float(measured["path_length"])  # type: ignore[arg-type]
+    lines.append(f"path length\t{length:.1f} {unit} ({length / cell:.1f} cells)")
+    for key, label, suffix in (
+        ("tortuosity", "tortuosity", ""),
+        ("path_ratio", "path-length ratio", ""),
+        ("clearance", "closest obstacle", f" {unit}"),
+        ("visibility", "visibility", f" {unit}"),
+        ("dispersion", "dispersion", ""),
+        ("dimension", "characteristic dimension", f" {unit}"),
+        ("narrowest", "narrowest passage", f" {unit}"),
+        ("difficulty", "difficulty", " / 100"),
+    ):
+        value = measured[key]
+        lines.append(f"{label}\t{'n/a' if value is None else format(value, '.3f')}{suffix}")
+    return lines

@@ -83,6 +83,20 @@ class Survey:
             return self.navigation.path_length
         return self.table[:, METRICS.index(name)]
 
+    def summary(self, index: int) -> dict[str, bool | float | None]:
+        """Everything measured of individual ``index``, JSON-ready: null where unsolvable."""
+        nav = self.navigation
+        values = {
+            "path_length": float(nav.path_length[index]),
+            "difficulty": float(self.difficulty[index]),
+            **{name: float(self.table[index, k]) for k, name in enumerate(METRICS)},
+        }
+        return {
+            "solvable": bool(nav.solvable[index]),
+            "coverage": float(nav.coverage[index]),
+            **{key: value if math.isfinite(value) else None for key, value in values.items()},
+        }
+
     @property
     def difficulty(self) -> np.ndarray:
         """:func:`difficulty_score` of every individual, NaN when unsolvable."""

@@ -101,9 +101,10 @@ def breed(
     )
 
 
-def _summary(
+def generation_stats(
     generation: int, fitness: np.ndarray, evaluations: int, unique: int, seconds: float
 ) -> GenerationStats:
+    """Statistics of one generation's fitness (valid individuals only) and evaluation counts."""
     valid = fitness[np.isfinite(fitness)]
     best, mean, median = (
         (float(valid.max()), float(valid.mean()), float(np.median(valid)))
@@ -160,7 +161,7 @@ def _evolve(
         last = generation == settings.generations
         if not last:
             breed(rng, codons, genes, fitness, settings, spare)
-        row = _summary(generation, fitness, evaluations, unique, perf_counter() - started)
+        row = generation_stats(generation, fitness, evaluations, unique, perf_counter() - started)
         stats.append(row)
         if on_generation is not None:
             on_generation(row)

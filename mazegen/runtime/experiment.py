@@ -22,7 +22,7 @@ from mazegen.fileio import write_atomic
 from mazegen.runtime.evolution import RunResult, evolve
 from mazegen.runtime.mapping import phenotype
 from mazegen.runtime.operators import ranking
-from mazegen.runtime.problem import Problem
+from mazegen.runtime.problem import Evaluation, Problem
 from mazegen.runtime.progress import QuietReporter, Reporter, reporter_for
 from mazegen.runtime.render import scenario_svg
 from mazegen.runtime.results import json_text, npz_bytes, staged_directory, stats_csv
@@ -46,7 +46,6 @@ def best_documents(
     problem: Problem, result: RunResult, *, count: int, origin: dict[str, Any]
 ) -> tuple[dict[str, Any], ...]:
     """The ``count`` best distinct valid scenarios of a final population, best first."""
-    spec, settings = problem.spec, problem.spec.evolution
     ranked = ranking(result.fitness)
     ranked = ranked[np.isfinite(result.fitness[ranked])]
     documents: list[dict[str, Any]] = []
@@ -62,27 +61,32 @@ def best_documents(
             if key in seen:
                 continue
             seen.add(key)
-            documents.append(
-                scenario_document(
-                    spec,
-                    evaluation.population,
-                    row,
-                    phenotype=phenotype(
-                        problem.grammar, codons[row].tolist(), wraps=settings.wraps, consume=settings.consume
-                    ),
-                    fitness=float(evaluation.fitness[row]),
-                    terms={name: float(values[row]) for name, values in evaluation.terms.items()},
-                    origin={
-                        **origin,
-                        "rank": len(documents) + 1,
-                        "codons": codons[row].tolist(),
-                        "placement": genes[row].tolist(),
-                    },
-                )
-            )
+            extra = {**origin, "rank": len(documents) + 1}
+            documents.append(row_document(problem, evaluation, row, codons[row], genes[row], extra))
             if len(documents) == count:
                 return tuple(documents)
     return tuple(documents)
+
+
+def row_document(
+    problem: Problem,
+    evaluation: Evaluation,
+    row: int,
+    codons: np.ndarray,
+    genes: np.ndarray,
+    origin: dict[str, Any],
+) -> dict[str, Any]:
+    """The scenario document of row ``row`` of an evaluation, its genome recorded in ``origin``."""
+    settings = problem.spec.evolution
+    return scenario_document(
+        problem.spec,
+        evaluation.population,
+        row,
+        phenotype=phenotype(problem.grammar, codons.tolist(), wraps=settings.wraps, consume=settings.consume),
+        fitness=float(evaluation.fitness[row]),
+        terms={name: float(values[row]) for name, values in evaluation.terms.items()},
+        origin={**origin, "codons": codons.tolist(), "placement": genes.tolist()},
+    )
 
 
 class Experiment:

@@ -99,6 +99,10 @@ def scenario_document(
         "phenotype": phenotype,
         "fitness": fitness if math.isfinite(fitness) else None,
         "terms": {key: float(value) + 0.0 for key, value in terms.items()},  # + 0.0 turns -0.0 into 0.0
+        "metrics": {
+            key: value if not isinstance(value, float) else _round(value)
+            for key, value in population.survey.summary(index).items()
+        },
         "valid": bool(math.isfinite(fitness)),
         "origin": origin,
     }
