@@ -40,7 +40,10 @@ def score(spec: Path, scenario: Path) -> None:
 
 def metric_lines(measured: dict[str, bool | float | None], unit: str, cell: float) -> list[str]:
     """The solvability, coverage and difficulty metrics of a scenario, one tab-separated line each."""
-    lines = [f"solvable\t{'yes' if measured['solvable'] else 'no'}", f"occupied fraction\t{measured['coverage']:.3f}"]
+    lines = [
+        f"solvable\t{'yes' if measured['solvable'] else 'no'}",
+        f"occupied fraction\t{measured['coverage']:.3f}",
+    ]
     if not measured["solvable"]:
         return lines
     length = float(measured["path_length"])  # type: ignore[arg-type]

@@ -72,6 +72,17 @@ def navigate(pop: Population, grid: Grid) -> Navigation:
     return Navigation(solvable, length, coverage, straight, grid.cell)
 
 
+def path_of(pop: Population, grid: Grid, index: int) -> np.ndarray | None:
+    """``float64[n, 2]``: the corners of individual ``index``'s path, start to goal, or None if unsolvable."""
+    if not pop.valid[index]:
+        return None
+    shapes, ids, n_el, params, _ = kernel_args(pop)
+    args = grid_args(grid)
+    scratch = route_scratch(shapes, ids.shape[1], args)
+    _, found, _, turns = route(shapes, ids[index], n_el[index], params[index], args, scratch)
+    return scratch[6][:turns].copy() if found else None
+
+
 @njit(cache=True, parallel=True)
 def _navigate_all(
     shapes, ids, n_el, params, valid, grid, blocks, solvable, length, coverage

@@ -147,6 +147,9 @@ def test_score_a_hand_drawn_floor(tmp_path):
     assert result.output.splitlines()[0] == "fitness\t2.5"
     assert "solvable\tyes" in result.output.splitlines()
     assert any(line.startswith("tortuosity\t1.0") for line in result.output.splitlines())
+    labels = [line.split("\t")[0] for line in result.output.splitlines()]
+    for label in ("closest obstacle", "visibility", "dispersion", "characteristic dimension", "difficulty"):
+        assert label in labels
     # A wall from floor to ceiling: no path, and factory requires one.
     floor["elements"].append({"type": "vwall", "x": 1000, "y": 525, "width": 20, "depth": 1100})
     path.write_text(json.dumps(floor))
@@ -176,6 +179,19 @@ def test_score_reports_bad_scenarios(tmp_path, content, message):
     result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
     assert result.exit_code == 1
     assert message in result.stderr
+
+
+def test_suite_writes_spread_solvable_scenarios_and_a_heatmap(tmp_path):
+    out = tmp_path / "suite"
+    args = ["suite", str(EXAMPLES / "workshop.maze"), "--size", "5", "--iterations", "3", "--batch", "300"]
+    result = invoke(*args, "-o", str(out), "--quiet")
+    assert result.exit_code == 0, result.output
+    assert result.output.splitlines()[-1] == f"wrote 5 scenarios to {out}"
+    documents = [json.loads(path.read_text()) for path in sorted(out.glob("scenario-*.json"))]
+    assert len(documents) == 5 and all(document["metrics"]["solvable"] for document in documents)
+    assert (out / "archive.png").is_file() and (out / "scenario-05.svg").is_file()
+    again = invoke(*args, "-o", str(out), "--quiet")
+    assert again.exit_code == 1 and "already exists" in again.output
 
 
 def test_render_svg_and_png(tmp_path):

@@ -157,6 +157,30 @@ BAD_SPECS = [
         "expected 'required' or 'penalty'",
     ),
     (
+        "metric range backwards",
+        spec(tail="fitness { tortuosity 2.0..1.4 weight 2 }\n"),
+        "4:22",
+        "a target range needs low < high, got 2..1.4",
+    ),
+    (
+        "coverage is a fraction",
+        spec(tail="fitness { coverage 0.2..1.5 }\n"),
+        "4:20",
+        "coverage is a fraction of the floor (0..1), got 0.2..1.5",
+    ),
+    (
+        "unknown difficulty level",
+        spec(tail="fitness { difficulty target extreme }\n"),
+        "4:29",
+        "expected 'easy', 'medium' or 'hard'",
+    ),
+    (
+        "duplicate metric term",
+        spec(tail="fitness { tortuosity 1.2..1.5 tortuosity 1.5..2.0 }\n"),
+        "4:31",
+        "duplicate fitness term 'tortuosity'",
+    ),
+    (
         "size limit allow",
         spec(tail="fitness { size limit 500 allow }\n"),
         "4:11",

@@ -1,0 +1,62 @@
+"""Floors shared by the navigation, difficulty and suite tests: element types, arenas,
+populations built from element lists, and an exact-geometry solvability check."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import shapely
+from shapely.geometry import Polygon, box
+
+import mazegen
+from mazegen.runtime.geometry import ElementTable
+from mazegen.runtime.population import Population
+from mazegen.spec import Arena
+from tests.conftest import EXAMPLES
+
+TYPES = mazegen.load(EXAMPLES / "factory.maze").scenario_elements
+TABLE = ElementTable.from_types(TYPES)
+NAMES = [t.name for t in TYPES]
+ARENA = Arena("hall", 1000, 600, "cm", (50, 50), (950, 550), 20, 10)
+
+
+def population(arena: Arena, scenarios: list[list[tuple]]) -> Population:
+    """Scenarios of (type, x, y, width, depth, degrees) elements."""
+    slots = max(1, max(len(s) for s in scenarios))
+    ids = np.full((len(scenarios), slots), -1, np.int32)
+    params = np.zeros((len(scenarios), slots, 5))
+    for i, elements in enumerate(scenarios):
+        for k, (name, x, y, sx, sy, degrees) in enumerate(elements):
+            ids[i, k] = NAMES.index(name)
+            params[i, k] = (x, y, sx, sy, math.radians(degrees))
+    count = np.array([len(s) for s in scenarios], np.int32)
+    return Population(ids, count, lambda: params, np.ones(len(scenarios), bool), TABLE, arena)
+
+
+def random_floors(rng: np.random.Generator, count: int, arena: Arena) -> list[list[tuple]]:
+    floors = []
+    for _ in range(count):
+        elements = []
+        for _ in range(rng.integers(0, 14)):
+            name = NAMES[rng.integers(0, len(NAMES))]
+            kind = TYPES[NAMES.index(name)]
+            sx = rng.uniform(*kind.size)
+            sy = rng.uniform(*kind.size2) if kind.size2 else sx
+            x, y = rng.uniform(-50, arena.width + 50), rng.uniform(-50, arena.height + 50)
+            elements.append((name, x, y, sx, sy, rng.uniform(0, 360)))
+        floors.append(elements)
+    return floors
+
+
+def geometrically_solvable(document: dict) -> bool:
+    """Exact geometry, no grid: the floor shrunk by the robot radius, minus every part grown by
+    it; start and goal must lie in one piece of what remains."""
+    arena = document["arena"]
+    r = arena["robot_radius"]
+    parts = [Polygon(part) for element in document["elements"] for part in element["parts"]]
+    room = box(r, r, arena["width"] - r, arena["height"] - r)
+    free = room.difference(shapely.union_all(parts).buffer(r)) if parts else room
+    start, goal = shapely.Point(arena["start"]), shapely.Point(arena["goal"])
+    pieces = getattr(free, "geoms", [free])
+    return any(piece.covers(start) and piece.covers(goal) for piece in pieces)
