@@ -217,6 +217,13 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
         return
     r0 = max(math.floor(box[1] / cell), 0)
     r1 = min(math.floor(box[3] / cell), rows - 1)
+    if nv == 4 and _axis_aligned(wv, k, p, 1e-9 * cell):  # walls and lines: every row spans the box
+        if box[2] >= 0.0 and box[0] <= cols * cell:
+            c0 = max(math.floor(box[0] / cell), 0)
+            c1 = min(math.floor(box[2] / cell), cols - 1)
+            for r in range(r0, r1 + 1):
+                _set_span(occupied[r], c0, c1)
+        return
     for r in range(r0, r1 + 1):
         y0 = max(r * cell, box[1])
         y1 = min((r + 1) * cell, box[3])
@@ -244,6 +251,18 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
         c0 = max(math.floor(lo / cell), 0)
         c1 = min(math.floor(hi / cell), cols - 1)
         _set_span(occupied[r], c0, c1)
+
+
+@njit(cache=True, inline="always")
+def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
+    """Whether every edge of the 4-vertex part ``p`` of element ``k`` is horizontal or vertical."""
+    for v in range(4):
+        u = (v + 1) % 4
+        dx = abs(wv[k, p, v, 0] - wv[k, p, u, 0])
+        dy = abs(wv[k, p, v, 1] - wv[k, p, u, 1])
+        if dx > tolerance and dy > tolerance:
+            return False
+    return True
 
 
 @njit(cache=True, inline="always")
