@@ -64,7 +64,7 @@ def staged_directory(target: Path, *, force: bool) -> Iterator[Path]:
     """
     if target.exists() and any(target.iterdir()) and not force:
         raise MazeError(
-            "run directory already exists and is not empty (use --force to replace it, "
+            "output directory already exists and is not empty (use --force to replace it, "
             "or -o to choose another)",
             filename=str(target),
         )

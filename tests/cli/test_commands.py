@@ -110,7 +110,7 @@ def test_run_refuses_to_overwrite_and_keeps_old_results(tmp_path):
     before = (out / "stats.csv").read_bytes()
     result = run_small(out, "--seed", "9")
     assert result.exit_code == 1
-    assert "run directory already exists" in result.stderr
+    assert "output directory already exists" in result.stderr
     assert (out / "stats.csv").read_bytes() == before
 
 

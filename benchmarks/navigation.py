@@ -1,0 +1,219 @@
+"""Throughput of the path search and of the difficulty metrics on an evolved population of 50,000.
+
+Usage:
+    python benchmarks/navigation.py            # population 50,000, median of 5 calls (~3 min)
+    python benchmarks/navigation.py --quick    # population 5,000, median of 3 calls
+    python benchmarks/navigation.py --repeats 9
+
+Each spec is built in a temporary folder and evolved for 15 generations at the measured population
+size with its own operators (``evolved_sample`` of ``kernels.py``); its last generation is decoded
+once (placements included), so the timings cover the path search alone. Every figure is the median
+of ``--repeats`` calls after one untimed call, with all numba threads and with one:
+
+* ``examples/factory.maze`` on its own grid (12.5 cm cells) and on a 25 cm grid (the population's
+  arena replaced, the placements decoded again before timing): ``navigate`` (solvability, path
+  length, coverage);
+* ``examples/factory.maze``: the full evaluation ``problem.evaluate`` (mapping, decoding and every
+  fitness term, solvability included; fresh arrays), all threads only, checked against the target
+  of 300,000 evaluations per second;
+* ``examples/workshop.maze``: ``navigate``, and ``survey`` (the path search plus BARN's difficulty
+  metrics along each path).
+
+Prints a Markdown table and the target, writes ``benchmarks/navigation.csv``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+import tempfile
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import partial
+from pathlib import Path
+
+import numba
+import numpy as np
+from common import BENCHMARKS, ROOT, markdown_table, median_seconds, peak_rss_mb, write_csv
+from kernels import EVOLVED_GENERATIONS, Sample, evolved_sample
+
+import mazegen
+from mazegen.runtime.cspace import grid_of
+from mazegen.runtime.difficulty import survey
+from mazegen.runtime.navigation import navigate
+from mazegen.runtime.population import Population
+from mazegen.runtime.problem import Problem
+
+SPECS = {
+    "factory": ROOT / "examples" / "factory.maze",
+    "workshop": ROOT / "examples" / "workshop.maze",
+}
+POPULATION = 50_000
+QUICK_POPULATION = 5_000
+REPEATS = 5
+QUICK_REPEATS = 3
+WARMUP = 1
+TARGET = 300_000.0
+"""Full evaluations per second the factory's evolved population should reach with all threads."""
+
+# What is timed: a zero-argument call made of the problem, its evolved sample and the (re-gridded)
+# population.
+OPERATIONS: dict[str, Callable[[Problem, Sample, Population], Callable[[], object]]] = {
+    "navigate": lambda problem, sample, pop: partial(navigate, pop, grid_of(pop.arena)),
+    "survey": lambda problem, sample, pop: partial(survey, pop),
+    "full evaluation": lambda problem, sample, pop: partial(problem.evaluate, sample.codons, sample.genes),
+}
+
+
+@dataclass(frozen=True)
+class Case:
+    """One row of the table.
+
+    Attributes:
+        spec: A key of :data:`SPECS`.
+        operation: A key of :data:`OPERATIONS`.
+        grid: Cell size in arena units replacing the spec's, or ``None`` for the spec's own.
+        one_thread: Also time the operation on a single numba thread.
+    """
+
+    spec: str
+    operation: str
+    grid: float | None = None
+    one_thread: bool = True
+
+
+CASES = (
+    Case("factory", "navigate"),
+    Case("factory", "navigate", grid=25.0),
+    Case("factory", "full evaluation", one_thread=False),
+    Case("workshop", "navigate"),
+    Case("workshop", "survey"),
+)
+
+
+def load_problem(path: Path) -> Problem:
+    """Build the spec at ``path`` in a temporary folder and load it."""
+    with tempfile.TemporaryDirectory() as folder:
+        mazegen.build(path, folder)
+        return Problem.from_build_dir(Path(folder))
+
+
+def on_grid(pop: Population, grid: float | None) -> Population:
+    """``pop`` on an arena with cell size ``grid`` (``pop`` itself for ``None``), its placements decoded."""
+    if grid is not None:
+        pop = dataclasses.replace(pop, arena=dataclasses.replace(pop.arena, grid=grid))
+    _ = pop.params  # decode the placements now, not inside the first timed call
+    return pop
+
+
+def seconds_on(threads: int, action: Callable[[], object], repeats: int) -> float:
+    """Median seconds of ``action`` on ``threads`` numba threads (the thread count restored afterwards)."""
+    previous = numba.get_num_threads()
+    numba.set_num_threads(threads)
+    try:
+        return median_seconds(action, repeats=repeats, warmup=WARMUP)
+    finally:
+        numba.set_num_threads(previous)
+
+
+def describe(pop: Population) -> dict:
+    """Grid size, valid and solvable shares and mean elements of ``pop`` on its arena's grid."""
+    grid = grid_of(pop.arena)
+    found = navigate(pop, grid)
+    return {
+        "grid": grid.cell,
+        "cells": f"{grid.cols} × {grid.rows}",
+        "valid_pct": 100 * float(pop.valid.mean()),
+        "solvable_pct": 100 * float(found.solvable.mean()),
+        "mean_elements": float(pop.n_elements.mean()),
+    }
+
+
+def measure(population: int, repeats: int) -> list[dict]:
+    """Evolve each spec's population once and time every case of :data:`CASES` on it."""
+    rows = []
+    for spec_name, path in SPECS.items():
+        problem = load_problem(path)
+        sample = evolved_sample(problem, population, np.random.default_rng(1))
+        for case in (case for case in CASES if case.spec == spec_name):
+            pop = on_grid(sample.population, case.grid)
+            action = OPERATIONS[case.operation](problem, sample, pop)
+            parallel = seconds_on(numba.get_num_threads(), action, repeats)
+            single = seconds_on(1, action, repeats) if case.one_thread else None
+            row = {
+                "spec": spec_name,
+                "operation": case.operation,
+                **describe(pop),
+                "rows": sample.rows,
+                "ms": 1e3 * parallel,
+                "per_s": sample.rows / parallel,
+                "ms_1t": None if single is None else 1e3 * single,
+                "per_s_1t": None if single is None else sample.rows / single,
+                "speedup": None if single is None else single / parallel,
+            }
+            rows.append(row)
+            print(
+                f"  {spec_name:9} {case.operation:16} grid {row['grid']:5} {1e3 * parallel:9.2f} ms",
+                flush=True,
+            )
+    return rows
+
+
+COLUMNS = [
+    ("spec", "spec", "s"),
+    ("operation", "operation", "s"),
+    ("grid", "grid cm", "g"),
+    ("cells", "cells", "s"),
+    ("rows", "individuals", ","),
+    ("valid_pct", "valid %", ".1f"),
+    ("solvable_pct", "solvable %", ".1f"),
+    ("mean_elements", "mean elements", ".2f"),
+    ("ms", "ms", ".1f"),
+    ("per_s", "evaluations/s", ",.0f"),
+    ("ms_1t", "1 thread ms", ".1f"),
+    ("per_s_1t", "1 thread evaluations/s", ",.0f"),
+    ("speedup", "speed-up", ".2f"),
+]
+
+
+def target_line(rows: list[dict]) -> str:
+    """PASS or FAIL of the factory's full evaluation against :data:`TARGET`."""
+    row = next(row for row in rows if row["spec"] == "factory" and row["operation"] == "full evaluation")
+    verdict = "PASS" if row["per_s"] >= TARGET else "FAIL"
+    return (
+        f"{verdict}  full evaluation >= {TARGET:,.0f} evaluations/s on factory's evolved population "
+        f"(all threads): {row['per_s']:,.0f}/s"
+    )
+
+
+def main() -> None:
+    """Measure, print the table and the target, write the CSV."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--quick", action="store_true", help=f"population {QUICK_POPULATION:,}, {QUICK_REPEATS} repeats"
+    )
+    parser.add_argument("--repeats", type=int, help=f"timed calls per figure (median; default {REPEATS})")
+    args = parser.parse_args()
+    population = QUICK_POPULATION if args.quick else POPULATION
+    repeats = args.repeats or (QUICK_REPEATS if args.quick else REPEATS)
+
+    print(
+        f"navigation at population {population:,}, median of {repeats}, {numba.get_num_threads()} threads "
+        f"({numba.threading_layer()}), load average {os.getloadavg()[0]:.2f}"
+    )
+    rows = measure(population, repeats)
+
+    print(f"\n### Navigation ({population:,} individuals evolved for {EVOLVED_GENERATIONS} generations)\n")
+    print(markdown_table(rows, COLUMNS))
+    print("\n### Target\n")
+    print(target_line(rows))
+
+    path = BENCHMARKS / "navigation.csv"
+    write_csv(path, rows)
+    print(f"\nwrote {path.relative_to(ROOT)}")
+    print(f"peak RSS {peak_rss_mb():.0f} MB, load average {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
