@@ -35,20 +35,13 @@ from numba import njit, prange
 
 from mazegen.runtime.cspace import ALL, ONE, grid_args, grid_of, lowest_bit, point_grid_of
 from mazegen.runtime.navigation import Navigation, kernel_args, route, route_scratch
+from mazegen.spec import PATH_METRICS
 
 if TYPE_CHECKING:
     from mazegen.runtime.population import Population
 
-METRICS = (
-    "clearance",
-    "visibility",
-    "dispersion",
-    "dimension",
-    "tortuosity",
-    "path_ratio",
-    "narrowest",
-)
-"""Column order of :attr:`Survey.table`: see the module docstring for each."""
+METRICS = tuple(name for name in PATH_METRICS if name != "path_length")
+"""Column order of :attr:`Survey.table` (the path length is in :attr:`Survey.navigation`)."""
 
 KING = np.array([(0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1), (-1, 0), (-1, 1)], np.int64)
 """The 8 ray directions as (row step, column step); direction ``d + 4`` is opposite ``d``."""
