@@ -315,3 +315,9 @@ def popcount(x):  # pragma: no cover - compiled
     x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
     x = (x + (x >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
     return int((x * np.uint64(0x0101010101010101)) >> np.uint64(56))
+
+
+@njit(cache=True, inline="always")
+def is_free(free, r, c, cols):  # pragma: no cover - compiled
+    """Whether cell ``(r, c)`` of the bit rows ``free`` is free; cells outside the grid are not."""
+    return 0 <= r < free.shape[0] and 0 <= c < cols and bool((free[r, c >> 6] >> np.uint64(c & 63)) & ONE)

@@ -28,12 +28,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numba import njit, prange
 
-from mazegen.runtime.cspace import ALL, ONE, grid_args, grid_of, lowest_bit, point_grid_of
+from mazegen.runtime.cspace import ALL, ONE, grid_args, grid_of, is_free, lowest_bit, point_grid_of
 from mazegen.runtime.navigation import Navigation, kernel_args, route, route_scratch
 from mazegen.spec import PATH_METRICS
 
@@ -90,7 +91,7 @@ class Survey:
             **{key: value if math.isfinite(value) else None for key, value in values.items()},
         }
 
-    @property
+    @cached_property
     def difficulty(self) -> np.ndarray:
         """:func:`difficulty_score` of every individual, NaN when unsolvable."""
         return difficulty_score(self.table, self.robot_radius or self.navigation.cell)
@@ -155,7 +156,7 @@ def _survey_all(  # pragma: no cover - compiled
     rows, cols = grid[1], grid[2]
     for block in prange(blocks):
         scratch = route_scratch(shapes, ids.shape[1], grid)
-        cells = np.zeros((4 * rows * cols + 16, 2), np.int64)
+        cells = np.zeros((rows * cols, 2), np.int64)  # path_cells stops when it is full
         for i in range(block * n // blocks, (block + 1) * n // blocks):
             if not valid[i]:
                 continue
@@ -212,17 +213,9 @@ def _free_cell_at(free, x, y, cols):  # pragma: no cover - compiled
         for dc in range(2):
             if dc == 1 and not on_col_edge:
                 break
-            if not is_blocked(free, r0 - dr, c0 - dc, cols):
+            if is_free(free, r0 - dr, c0 - dc, cols):
                 return r0 - dr, c0 - dc
     return -1, -1
-
-
-@njit(cache=True, inline="always")
-def is_blocked(free, r, c, cols):  # pragma: no cover - compiled
-    """Whether cell ``(r, c)`` is blocked; cells outside the grid are."""
-    if r < 0 or r >= free.shape[0] or c < 0 or c >= cols:
-        return True
-    return not ((free[r, c >> 6] >> np.uint64(c & 63)) & ONE)
 
 
 @njit(cache=True)
@@ -254,7 +247,7 @@ def _path_metrics(free, cols, cells, count, reach, cell, out):  # pragma: no cov
 def ray_length(free, r, c, dr, dc, cols):  # pragma: no cover - compiled
     """Free length, in cells, from cell ``(r, c)`` along ``(dr, dc)`` before the first blocked cell."""
     steps = 0
-    while not is_blocked(free, r + (steps + 1) * dr, c + (steps + 1) * dc, cols):
+    while is_free(free, r + (steps + 1) * dr, c + (steps + 1) * dc, cols):
         steps += 1
     return steps * math.sqrt(dr * dr + dc * dc)
 
@@ -268,7 +261,7 @@ def cell_dispersion(free, r, c, reach, cols):  # pragma: no cover - compiled
         step = math.sqrt(dr * dr + dc * dc)
         k = 1
         while k * step <= reach + 1e-9:
-            if is_blocked(free, r + k * dr, c + k * dc, cols):
+            if not is_free(free, r + k * dr, c + k * dc, cols):
                 hits[d] = True
                 break
             k += 1

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit, prange
 
-from mazegen.runtime.cspace import ALL, ONE, Grid, cspace, grid_args, lowest_bit, raster_arrays
+from mazegen.runtime.cspace import ALL, ONE, Grid, cspace, grid_args, is_free, lowest_bit, raster_arrays
 
 if TYPE_CHECKING:
     from mazegen.runtime.population import Population
@@ -154,7 +154,7 @@ def _straight_free(free, cols, cell, points):  # pragma: no cover - compiled
     delta_c = abs(1.0 / dx) if dx != 0 else np.inf
     delta_r = abs(1.0 / dy) if dy != 0 else np.inf
     for _ in range(rows + cols + 2):
-        if not _free_at(free, r, c, cols):
+        if not is_free(free, r, c, cols):
             return False
         if r == end_r and c == end_c:
             return True
@@ -165,18 +165,13 @@ def _straight_free(free, cols, cell, points):  # pragma: no cover - compiled
             r += step_r
             next_r += delta_r
         else:  # through a corner: the two cells beside it as well
-            if not _free_at(free, r, c + step_c, cols) or not _free_at(free, r + step_r, c, cols):
+            if not is_free(free, r, c + step_c, cols) or not is_free(free, r + step_r, c, cols):
                 return False
             c += step_c
             r += step_r
             next_c += delta_c
             next_r += delta_r
     return False
-
-
-@njit(cache=True, inline="always")
-def _free_at(free, r, c, cols):  # pragma: no cover - compiled
-    return 0 <= r < free.shape[0] and 0 <= c < cols and bool((free[r, c >> 6] >> np.uint64(c & 63)) & ONE)
 
 
 @njit(cache=True)
