@@ -7,8 +7,8 @@
    within the robot radius of its centre (a disc dilation), or when its centre is
    closer to the arena's edge than the radius.
 
-Rows are bit sets of ``uint64`` words (bit ``j % 64`` of word ``j // 64`` is column ``j``),
-so a whole row is dilated or tested in a few word operations.
+Rows are bit rows (:mod:`mazegen.runtime.bits`), so a whole row is dilated or tested
+in a few word operations.
 """
 
 from __future__ import annotations
@@ -21,18 +21,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.bits import HIGH, ONE, is_set, popcount, set_span
 from mazegen.runtime.geometry import _world_element
 
 if TYPE_CHECKING:
     from mazegen.runtime.population import Population
     from mazegen.spec import Arena
-
-ONE = np.uint64(1)
-ALL = np.uint64(0xFFFFFFFFFFFFFFFF)
-_DEBRUIJN = np.uint64(0x03F79D71B4CB0A89)
-_DEBRUIJN_INDEX = np.zeros(64, np.int64)
-for _bit in range(64):
-    _DEBRUIJN_INDEX[((1 << _bit) * 0x03F79D71B4CB0A89 & 0xFFFFFFFFFFFFFFFF) >> 58] = _bit
 
 
 @dataclass(frozen=True)
@@ -138,7 +132,7 @@ def free_cells(pop: Population, grid: Grid, index: int) -> np.ndarray:
     table = pop.table
     free = np.zeros((grid.rows, grid.words), np.uint64)
     parts, vertices = table.unit.shape[1:3]
-    raster = raster_arrays(grid.rows, grid.words, pop.element_ids.shape[1], parts, vertices)
+    raster = raster_arrays(grid_args(grid), pop.element_ids.shape[1], parts, vertices)
     cspace(
         table.shapes,
         np.ascontiguousarray(pop.element_ids[index], np.int32),
@@ -158,12 +152,21 @@ def unpack(bits: np.ndarray, cols: int) -> np.ndarray:
 
 
 @njit(cache=True)
-def raster_arrays(rows, words, slots, parts, vertices):  # pragma: no cover - compiled
-    """Scratch of one rasterisation: occupied rows, a widened row, world vertices and boxes."""
+def raster_arrays(grid, slots, parts, vertices):  # pragma: no cover - compiled
+    """Scratch of one rasterisation on ``grid`` (:func:`grid_args`).
+
+    The dilation works on padded copies of the occupancy: ``reach`` empty rows above and
+    below, and guard words after each row wide enough for the widest span, so every shift
+    stays inside the array and brings in zeros. Rows are then plain stretches of one flat
+    array, and each step of the dilation is a single loop the compiler can vectorise.
+    """
+    rows, spans, words = grid[1], grid[3], grid[4].shape[1]
+    reach = spans.shape[0] - 1
+    stride = words + spans[0] // 64 + 1
     slots = max(slots, 1)
     return (
-        np.zeros((rows, words), np.uint64),
-        np.zeros(words, np.uint64),
+        np.zeros((spans[0] + 1, (rows + 2 * reach) * stride), np.uint64),  # occupancy widened by 0, 1, ...
+        np.zeros(rows * stride, np.uint64),  # the dilated occupancy
         np.zeros((slots, parts, vertices, 2)),
         np.zeros((slots, parts, 4)),
         np.zeros((slots, 4)),
@@ -178,36 +181,48 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     """
     n_parts, n_vertices = shapes[0], shapes[1]
     cell, rows, cols, spans, border = grid[0], grid[1], grid[2], grid[3], grid[4]
-    occupied, wide, wv, pbox, ebox = raster
+    widened, dilated, wv, pbox, ebox = raster
     words = border.shape[1]
-    occupied[:, :] = 0
+    reach = spans.shape[0] - 1
+    stride = dilated.shape[0] // rows
+    inside = widened[0, reach * stride : (reach + rows) * stride]
+    occupied = inside.reshape((rows, stride))
+    inside[:] = 0
     for k in range(count):
         e = ids[k]
         _world_element(shapes, e, params[k], wv, pbox, ebox, k)
         for p in range(n_parts[e]):
             _mark_part(wv, k, p, n_vertices[e, p], pbox[k, p], cell, rows, cols, occupied)
-    # Disc dilation: an occupied row blocks the rows dy away, widened by the disc's half-width there.
-    free[:, :] = border
-    for source in range(rows):
-        empty = True
-        for w in range(words):
-            empty &= occupied[source, w] == 0
-        if empty:
-            continue
-        for dy in range(spans.shape[0]):
-            _widen(occupied[source], spans[dy], wide)
-            for r in (source - dy, source + dy):
-                if 0 <= r < rows:
-                    for w in range(words):
-                        free[r, w] |= wide[w]
-    for r in range(rows):
-        for w in range(words):
-            free[r, w] = ~free[r, w]
     occupied_cells = 0
+    for i in range(inside.shape[0]):
+        occupied_cells += popcount(inside[i])
+    # Disc dilation: the occupancy widened by the disc's half-width dy rows away, shifted dy rows.
+    for width in range(1, widened.shape[0]):
+        _widen_flat(widened[width - 1], widened[width])
+    # (Slices rather than offset indices: indices the compiler knows are not negative
+    # spare it the wrap-around test that would keep these loops from being vectorised.)
+    size = dilated.shape[0]
+    dilated[:] = 0
+    for dy in range(-reach, reach + 1):
+        source = widened[spans[abs(dy)], (reach + dy) * stride : (reach + dy) * stride + size]
+        for i in range(size):
+            dilated[i] |= source[i]
+    rows_of = dilated.reshape((rows, stride))
     for r in range(rows):
         for w in range(words):
-            occupied_cells += popcount(occupied[r, w])
+            free[r, w] = ~(rows_of[r, w] | border[r, w])
     return occupied_cells
+
+
+@njit(cache=True, inline="always")
+def _widen_flat(source, out):  # pragma: no cover - compiled
+    """``out`` = ``source`` with every set bit spread one column to each side (one flat bit string)."""
+    last = source.shape[0] - 1
+    for i in range(1, last):
+        x = source[i]
+        out[i] = x | (x << ONE) | (x >> ONE) | (source[i - 1] >> HIGH) | (source[i + 1] << HIGH)
+    out[0] = source[0] | (source[0] << ONE) | (source[0] >> ONE) | (source[1] << HIGH)
+    out[last] = source[last] | (source[last] << ONE) | (source[last] >> ONE) | (source[last - 1] >> HIGH)
 
 
 @njit(cache=True, inline="always")
@@ -222,7 +237,7 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
             c0 = max(math.floor(box[0] / cell), 0)
             c1 = min(math.floor(box[2] / cell), cols - 1)
             for r in range(r0, r1 + 1):
-                _set_span(occupied[r], c0, c1)
+                set_span(occupied[r], c0, c1)
         return
     for r in range(r0, r1 + 1):
         y0 = max(r * cell, box[1])
@@ -250,7 +265,7 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
             continue
         c0 = max(math.floor(lo / cell), 0)
         c1 = min(math.floor(hi / cell), cols - 1)
-        _set_span(occupied[r], c0, c1)
+        set_span(occupied[r], c0, c1)
 
 
 @njit(cache=True, inline="always")
@@ -266,58 +281,6 @@ def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _set_span(row, first, last):  # pragma: no cover - compiled
-    """Set columns ``first..last`` of a bit row."""
-    for w in range(first >> 6, (last >> 6) + 1):
-        lo = first - 64 * w if w == first >> 6 else 0
-        hi = last - 64 * w if w == last >> 6 else 63
-        width = hi - lo + 1
-        mask = ALL if width == 64 else ((ONE << np.uint64(width)) - ONE) << np.uint64(lo)
-        row[w] |= mask
-
-
-@njit(cache=True, inline="always")
-def _widen(row, span, out):  # pragma: no cover - compiled
-    """``out`` = ``row`` with every set bit spread ``span`` columns to each side."""
-    words = row.shape[0]
-    for w in range(words):
-        out[w] = row[w]
-    for t in range(1, span + 1):
-        shift = np.uint64(t % 64)
-        back = np.uint64(64 - t % 64)
-        whole = t // 64
-        for w in range(words):
-            up = np.uint64(0)
-            down = np.uint64(0)
-            src = w - whole
-            if 0 <= src < words:
-                up = row[src] << shift if shift else row[src]
-                if shift and src - 1 >= 0:
-                    up |= row[src - 1] >> back
-            src = w + whole
-            if 0 <= src < words:
-                down = row[src] >> shift if shift else row[src]
-                if shift and src + 1 < words:
-                    down |= row[src + 1] << back
-            out[w] |= up | down
-
-
-@njit(cache=True, inline="always")
-def lowest_bit(x):  # pragma: no cover - compiled
-    """Index of the lowest set bit of a non-zero ``uint64`` (de Bruijn multiplication)."""
-    return _DEBRUIJN_INDEX[((x & (~x + ONE)) * _DEBRUIJN) >> np.uint64(58)]
-
-
-@njit(cache=True, inline="always")
-def popcount(x):  # pragma: no cover - compiled
-    """Number of set bits of a ``uint64`` (SWAR: bits summed in pairs, nibbles, then bytes)."""
-    x = x - ((x >> np.uint64(1)) & np.uint64(0x5555555555555555))
-    x = (x & np.uint64(0x3333333333333333)) + ((x >> np.uint64(2)) & np.uint64(0x3333333333333333))
-    x = (x + (x >> np.uint64(4))) & np.uint64(0x0F0F0F0F0F0F0F0F)
-    return int((x * np.uint64(0x0101010101010101)) >> np.uint64(56))
-
-
-@njit(cache=True, inline="always")
 def is_free(free, r, c, cols):  # pragma: no cover - compiled
     """Whether cell ``(r, c)`` of the bit rows ``free`` is free; cells outside the grid are not."""
-    return 0 <= r < free.shape[0] and 0 <= c < cols and bool((free[r, c >> 6] >> np.uint64(c & 63)) & ONE)
+    return 0 <= r < free.shape[0] and 0 <= c < cols and is_set(free[r], c)

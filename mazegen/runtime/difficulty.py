@@ -34,7 +34,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit, prange
 
-from mazegen.runtime.cspace import ALL, ONE, grid_args, grid_of, is_free, lowest_bit, point_grid_of
+from mazegen.runtime.bits import ALL, ONE, lowest_bit
+from mazegen.runtime.cspace import grid_args, grid_of, is_free, point_grid_of
 from mazegen.runtime.navigation import Navigation, kernel_args, route, route_scratch
 from mazegen.spec import PATH_METRICS
 
@@ -167,7 +168,7 @@ def _survey_all(  # pragma: no cover - compiled
             solvable[i] = True
             length[i] = total
             free = scratch[1]
-            count = path_cells(scratch[6], turns, free, grid[0], cols, cells)
+            count = path_cells(scratch[5], turns, free, grid[0], cols, cells)
             _path_metrics(free, cols, cells, count, reach, grid[0], table[i])
             _, point_found, point_total, _ = route(shapes, ids[i], n_el[i], params[i], point_grid, scratch)
             # The robot's path is a path for a point too: the point's is the shorter of the two.

@@ -2,16 +2,19 @@
 
 On the configuration space of :mod:`mazegen.runtime.cspace`, per individual:
 
-1. **Runs**: each row's free cells form runs; two runs in neighbouring rows that
-   share a column are connected. The scenario is solvable when the runs holding
-   the start and goal cells are connected.
-2. **Path**: an A* search over runs (a run is entered where the line from the
-   previous entry point towards the goal crosses into it, or as near as the run
-   allows; the straight line to the goal guides the search; the queue is bucketed
-   by whole cells), then the shortest path through the chosen corridor of runs by
-   the funnel algorithm (string pulling through the portals between runs). In an
-   open arena it is the straight segment. The path found is collision-free; being
-   chosen over runs, its corridor is not always the shortest one.
+1. **Straight line**: when every cell the start-goal segment touches is free, that
+   segment is the path and nothing else is searched.
+2. **Rectangles**: the free cells are split into rectangles
+   (:mod:`mazegen.runtime.rectangles`); two that share an edge are connected. The
+   scenario is solvable when the rectangles holding the start and goal cells are
+   connected.
+3. **Path**: an A* search over rectangles (a rectangle is entered where the line
+   from the previous entry point towards the goal crosses into it, or as near as
+   the shared edge allows; the straight line to the goal guides the search; the
+   queue is bucketed by whole cells), then the shortest path through the chosen
+   corridor of rectangles by the funnel algorithm (string pulling through the
+   portals between them). The path found is collision-free; being chosen over
+   rectangles, its corridor is not always the shortest one.
 """
 
 from __future__ import annotations
@@ -23,7 +26,21 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit, prange
 
-from mazegen.runtime.cspace import ALL, ONE, Grid, cspace, grid_args, is_free, lowest_bit, raster_arrays
+from mazegen.runtime.cspace import Grid, cspace, grid_args, is_free, raster_arrays
+from mazegen.runtime.rectangles import (
+    ABOVE,
+    BELOW,
+    DOWN_COUNT,
+    DOWN_FIRST,
+    FIRST_COL,
+    FIRST_ROW,
+    LAST_COL,
+    LAST_ROW,
+    UP_COUNT,
+    UP_FIRST,
+    decompose,
+    rectangle_arrays,
+)
 
 if TYPE_CHECKING:
     from mazegen.runtime.population import Population
@@ -80,7 +97,7 @@ def path_of(pop: Population, grid: Grid, index: int) -> np.ndarray | None:
     args = grid_args(grid)
     scratch = route_scratch(shapes, ids.shape[1], args)
     _, found, _, turns = route(shapes, ids[index], n_el[index], params[index], args, scratch)
-    return scratch[6][:turns].copy() if found else None
+    return scratch[5][:turns].copy() if found else None
 
 
 @njit(cache=True, parallel=True)
@@ -104,15 +121,13 @@ def _navigate_all(
 
 @njit(cache=True)
 def route_scratch(shapes, slots, grid):  # pragma: no cover - compiled
-    """Scratch arrays of :func:`route` for one thread: raster, free rows, runs and search."""
+    """Scratch arrays of :func:`route` for one thread: raster, free rows, rectangles and search."""
     rows, cols, border = grid[1], grid[2], grid[4]
-    words = border.shape[1]
     capacity = rows * (cols // 2 + 1)
     return (
-        raster_arrays(rows, words, slots, shapes[2].shape[1], shapes[2].shape[2]),
-        np.zeros((rows, words), np.uint64),  # free cells
-        np.zeros((capacity, 3), np.int64),  # runs: row, first column, last column
-        np.zeros(rows + 1, np.int64),  # first run of each row
+        raster_arrays(grid, slots, shapes[2].shape[1], shapes[2].shape[2]),
+        np.zeros((rows, border.shape[1]), np.uint64),  # free cells
+        rectangle_arrays(rows, cols),
         _search_arrays(capacity, 4 * (rows + cols) + 16),
         np.zeros((capacity + 2, 4)),  # portals
         np.zeros((capacity + 2, 2)),  # path corners
@@ -124,17 +139,19 @@ def route(shapes, ids, count, params, grid, scratch):  # pragma: no cover - comp
     """Configuration space and path of one individual.
 
     Returns (occupied cells, found, path length, corners); the free rows are
-    ``scratch[1]`` and the path's corners, start to goal, ``scratch[6][:corners]``.
+    ``scratch[1]`` and the path's corners, start to goal, ``scratch[5][:corners]``.
     """
-    raster, free, runs, row_first, search, portals, corners = scratch
+    raster, free, rectangles, search, portals, corners = scratch
     occupied = cspace(shapes, ids, count, params, grid, raster, free)
     points = grid[5]
     if _straight_free(free, grid[2], grid[0], points):  # the shortest path of all: no search
         corners[0, 0], corners[0, 1] = points[0], points[1]
         corners[1, 0], corners[1, 1] = points[2], points[3]
         return occupied, True, math.hypot(points[2] - points[0], points[3] - points[1]), 2
-    runs_count = _runs(free, grid[2], runs, row_first)
-    found, total, turns = _shortest(runs, row_first, runs_count, grid, search, portals, corners)
+    nodes, start, goal = decompose(free, grid[2], grid[6], rectangles)
+    if start < 0 or goal < 0:
+        return occupied, False, 0.0, 0
+    found, total, turns = _shortest(rectangles, nodes, start, goal, grid, search, portals, corners)
     return occupied, found, total, turns
 
 
@@ -175,42 +192,6 @@ def _straight_free(free, cols, cell, points):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _runs(free, cols, runs, row_first):  # pragma: no cover - compiled
-    """Free runs of every row, in row then column order; ``row_first[r]`` is row ``r``'s first run."""
-    rows, words = free.shape
-    count = 0
-    for r in range(rows):
-        row_first[r] = count
-        open_start = -1
-        for w in range(words):
-            x = free[r, w]
-            base = 64 * w
-            if open_start >= 0 and not (x & ONE):
-                runs[count, 0], runs[count, 1], runs[count, 2] = r, open_start, base - 1
-                count += 1
-                open_start = -1
-            while x:
-                start = lowest_bit(x)
-                rest = ~x & (ALL << np.uint64(start))
-                stop = 64 if rest == 0 else lowest_bit(rest)
-                if open_start < 0:
-                    open_start = base + start
-                if stop == 64:
-                    break  # the run may go on in the next word
-                runs[count, 0], runs[count, 1], runs[count, 2] = r, open_start, base + stop - 1
-                count += 1
-                open_start = -1
-                x &= ALL << np.uint64(stop)
-        if open_start >= 0:
-            runs[count, 0], runs[count, 1], runs[count, 2] = r, open_start, 64 * words - 1
-            count += 1
-        for q in range(row_first[r], count):  # padding columns are blocked, but stay safe
-            runs[q, 2] = min(runs[q, 2], cols - 1)
-    row_first[rows] = count
-    return count
-
-
-@njit(cache=True)
 def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
     """Scratch arrays of one search over at most ``capacity`` runs."""
     return (
@@ -218,35 +199,23 @@ def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
         np.zeros(capacity, np.int64),  # previous run
         np.zeros((capacity, 2)),  # entry point
         np.zeros(capacity, np.bool_),  # settled
-        np.zeros(buckets, np.int64),  # queue: first entry of each bucket
+        np.full(buckets, -1, np.int64),  # queue: first entry of each bucket (-1: empty)
         np.zeros(4 * capacity + 8, np.int64),  # queue: next entry in the same bucket
         np.zeros(4 * capacity + 8, np.int64),  # queue: the run of each entry
         np.zeros(capacity + 2, np.int64),  # corridor
     )
 
 
-@njit(cache=True, inline="always")
-def _run_at(runs, row_first, r, c):  # pragma: no cover - compiled
-    for q in range(row_first[r], row_first[r + 1]):
-        if runs[q, 1] <= c <= runs[q, 2]:
-            return q
-    return -1
-
-
 @njit(cache=True)
-def _shortest(runs, row_first, count, grid, search, portals, corners):  # pragma: no cover - compiled
-    """Search start run → goal run; returns (found, path length, corners written to ``corners``)."""
+def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  # pragma: no cover - compiled
+    """Search rectangle ``start`` → ``goal``; returns (found, path length, corners written to ``corners``)."""
+    rects, links, edges = rectangles[0], rectangles[1], rectangles[2]
     cell = grid[0]
-    points, cells = grid[5], grid[6]
-    cost, previous, entry, settled, heads, links, members, corridor = search
-    start = _run_at(runs, row_first, cells[0], cells[1])
-    goal = _run_at(runs, row_first, cells[2], cells[3])
-    if start < 0 or goal < 0:
-        return False, 0.0, 0
+    points = grid[5]
+    cost, previous, entry, settled, heads, next_entry, members, corridor = search
     for q in range(count):
         cost[q] = np.inf
         settled[q] = False
-    heads[:] = -1
     cost[start] = 0.0
     previous[start] = -1
     entry[start, 0], entry[start, 1] = points[0], points[1]
@@ -255,48 +224,55 @@ def _shortest(runs, row_first, count, grid, search, portals, corners):  # pragma
     # constant-time pushes and pops; within a bucket the order is last in, first out.
     last = heads.shape[0] - 1
     lowest = min(int(math.hypot(gx - points[0], gy - points[1]) / cell), last)
-    used = _enqueue(heads, links, members, 0, lowest, start)
+    first_used = highest = lowest
+    used = _enqueue(heads, next_entry, members, 0, lowest, start)
     while True:
-        while lowest <= last and heads[lowest] < 0:
+        while lowest <= highest and heads[lowest] < 0:
             lowest += 1
-        if lowest > last:
+        if lowest > highest:
             break
         taken = heads[lowest]
-        heads[lowest] = links[taken]
+        heads[lowest] = next_entry[taken]
         here = members[taken]
         if settled[here]:
             continue
         settled[here] = True
         if here == goal:
             break
-        r = runs[here, 0]
-        for side in range(2):
-            other = r - 1 if side == 0 else r + 1
-            if other < 0 or other >= row_first.shape[0] - 1:
-                continue
-            for q in range(row_first[other], row_first[other + 1]):
-                lo = max(runs[here, 1], runs[q, 1])
-                hi = min(runs[here, 2], runs[q, 2])
-                if lo > hi or settled[q]:
+        ex, ey = entry[here, 0], entry[here, 1]
+        spent = cost[here]
+        for side in range(2):  # the rectangles above, then those below
+            first = links[here, UP_FIRST] if side == 0 else links[here, DOWN_FIRST]
+            n = links[here, UP_COUNT] if side == 0 else links[here, DOWN_COUNT]
+            y = (rects[here, LAST_ROW] + 1) * cell if side == 0 else rects[here, FIRST_ROW] * cell
+            # Cross the shared edge where the line from the entry point towards the goal
+            # does (straight on when the goal is not ahead), clamped to the edge.
+            aim = ex
+            if (gy - ey) * (y - ey) > 0.0 and abs(gy - ey) >= abs(y - ey):
+                aim = ex + (gx - ex) * (y - ey) / (gy - ey)
+            dy2 = (y - ey) * (y - ey)
+            rest_y2 = (gy - y) * (gy - y)
+            lo_here = rects[here, FIRST_COL]
+            hi_here = rects[here, LAST_COL]
+            for e in range(first, first + n):
+                q = edges[e, ABOVE] if side == 0 else edges[e, BELOW]
+                if settled[q]:
                     continue
-                # Cross the shared edge where the line from the entry point towards the
-                # goal does (straight on when the goal is not ahead), clamped to the edge.
-                y = max(r, other) * cell
-                ex, ey = entry[here, 0], entry[here, 1]
-                x = ex
-                if (gy - ey) * (y - ey) > 0.0 and abs(gy - ey) >= abs(y - ey):
-                    x = ex + (gx - ex) * (y - ey) / (gy - ey)
-                x = min(max(x, lo * cell), (hi + 1) * cell)
-                dx, dy = x - entry[here, 0], y - entry[here, 1]
-                step = math.sqrt(dx * dx + dy * dy)  # hypot's overflow care costs more than it saves here
-                if cost[here] + step < cost[q]:
-                    cost[q] = cost[here] + step
+                lo = max(lo_here, rects[q, FIRST_COL]) * cell
+                hi = (min(hi_here, rects[q, LAST_COL]) + 1) * cell
+                x = min(max(aim, lo), hi)
+                # sqrt, not hypot: hypot's overflow care costs more than it saves here
+                reached = spent + math.sqrt((x - ex) * (x - ex) + dy2)
+                if reached < cost[q]:
+                    cost[q] = reached
                     previous[q] = here
                     entry[q, 0], entry[q, 1] = x, y
-                    rest = math.sqrt((gx - x) * (gx - x) + (gy - y) * (gy - y))
-                    bucket = min(int((cost[q] + rest) / cell), last)
-                    used = _enqueue(heads, links, members, used, bucket, q)
+                    bucket = min(int((reached + math.sqrt((gx - x) * (gx - x) + rest_y2)) / cell), last)
+                    used = _enqueue(heads, next_entry, members, used, bucket, q)
                     lowest = min(lowest, bucket)
+                    first_used = min(first_used, bucket)
+                    highest = max(highest, bucket)
+    heads[first_used : highest + 1] = -1  # the queue empty again for the next search
     if not settled[goal]:
         return False, 0.0, 0
     hops = 0
@@ -305,24 +281,24 @@ def _shortest(runs, row_first, count, grid, search, portals, corners):  # pragma
         corridor[hops] = q
         hops += 1
         q = previous[q]
-    total, turns = _funnel(runs, corridor, hops, cell, points, portals, corners)
+    total, turns = _funnel(rects, corridor, hops, cell, points, portals, corners)
     return True, total, turns
 
 
 @njit(cache=True, inline="always")
-def _enqueue(heads, links, members, used, bucket, run):  # pragma: no cover - compiled
-    members[used] = run
-    links[used] = heads[bucket]
+def _enqueue(heads, next_entry, members, used, bucket, node):  # pragma: no cover - compiled
+    members[used] = node
+    next_entry[used] = heads[bucket]
     heads[bucket] = used
     return used + 1
 
 
 @njit(cache=True)
-def _funnel(runs, corridor, hops, cell, points, portals, corners):  # pragma: no cover - compiled
+def _funnel(rects, corridor, hops, cell, points, portals, corners):  # pragma: no cover - compiled
     """The shortest path from start to goal through the corridor's portals: (length, corners).
 
-    ``corridor[hops - 1] .. corridor[0]`` are the runs from start to goal. Each
-    portal is the edge two consecutive runs share, written (left, right) as seen
+    ``corridor[hops - 1] .. corridor[0]`` are the rectangles from start to goal. Each
+    portal is the edge two consecutive rectangles share, written (left, right) as seen
     when walking through it; the funnel algorithm pulls the path taut. The path's
     vertices, start and goal included, go to ``corners``.
     """
@@ -330,10 +306,11 @@ def _funnel(runs, corridor, hops, cell, points, portals, corners):  # pragma: no
     n = 1
     for h in range(hops - 1, 0, -1):
         a, b = corridor[h], corridor[h - 1]
-        lo = max(runs[a, 1], runs[b, 1]) * cell
-        hi = (min(runs[a, 2], runs[b, 2]) + 1) * cell
-        y = max(runs[a, 0], runs[b, 0]) * cell
-        if runs[b, 0] > runs[a, 0]:  # walking up (+y): left is smaller x
+        lo = max(rects[a, FIRST_COL], rects[b, FIRST_COL]) * cell
+        hi = (min(rects[a, LAST_COL], rects[b, LAST_COL]) + 1) * cell
+        up = rects[b, FIRST_ROW] > rects[a, LAST_ROW]
+        y = rects[b, FIRST_ROW] * cell if up else rects[a, FIRST_ROW] * cell
+        if up:  # walking up (+y): left is smaller x
             _portal(portals, n, lo, y, hi, y)
         else:
             _portal(portals, n, hi, y, lo, y)

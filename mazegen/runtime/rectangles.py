@@ -1,0 +1,160 @@
+"""Free space as rectangles: the nodes the path search walks over.
+
+Each row's free cells form runs. A run with exactly the column extent of a run in
+the row below continues it, so a stack of equal runs is one rectangle, and a row
+equal to the row below (common between the edges of elements) continues every
+rectangle at once. Two rectangles touch when one ends in the row below the other's
+first row and their column extents overlap; the robot crosses from one to the
+other through the shared edge (a *portal*).
+
+Edges are recorded as one merge of two rows' sorted runs finds them, so the
+rectangles above a rectangle, like those below it, are one contiguous slice of the
+edge list: no adjacency lists to build.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from mazegen.runtime.bits import HIGH, ONE, lowest_bit
+
+# Columns of the per-rectangle arrays.
+FIRST_ROW, LAST_ROW, FIRST_COL, LAST_COL = 0, 1, 2, 3
+UP_FIRST, UP_COUNT, DOWN_FIRST, DOWN_COUNT = 0, 1, 2, 3
+BELOW, ABOVE = 0, 1
+
+
+@njit(cache=True)
+def rectangle_arrays(rows, cols):  # pragma: no cover - compiled
+    """Scratch of one decomposition of a ``rows`` x ``cols`` grid."""
+    row_runs = cols // 2 + 1  # free runs one row can hold
+    capacity = rows * row_runs
+    return (
+        np.zeros((capacity, 4), np.int64),  # rectangles: first row, last row, first column, last column
+        np.zeros((capacity, 4), np.int64),  # their edges: first up, count up, first down, count down
+        np.zeros((rows * 2 * row_runs + 1, 2), np.int64),  # edges: (rectangle below, rectangle above)
+        np.zeros((2, row_runs, 3), np.int64),  # runs of two rows: first column, last column, rectangle
+    )
+
+
+@njit(cache=True)
+def decompose(free, cols, cells, arrays):  # pragma: no cover - compiled
+    """Split the free cells of bit rows ``free`` into rectangles and their edges.
+
+    Args:
+        free: ``uint64[rows, words]`` bit rows of free cells.
+        cols: Columns of the grid (padding bits past it are ignored).
+        cells: ``int64[4]``: start row and column, goal row and column.
+        arrays: From :func:`rectangle_arrays`.
+
+    Returns:
+        (rectangles, start rectangle, goal rectangle); -1 for an end on a blocked cell.
+    """
+    rects, links, edges, row_runs = arrays
+    rows, words = free.shape
+    count = 0
+    n_edges = 0
+    last = 0  # which half of row_runs holds the previous row's runs
+    n_last = 0
+    start = goal = -1
+    for r in range(rows):
+        same = r > 0
+        for w in range(words if r > 0 else 0):
+            if free[r, w] != free[r - 1, w]:
+                same = False
+                break
+        if not same:
+            now = 1 - last
+            below, here = row_runs[last], row_runs[now]
+            n_now = _row_runs(free[r], cols, here)
+            count, n_edges = _join(below, n_last, here, n_now, r, rects, links, edges, count, n_edges)
+            last, n_last = now, n_now
+        if r == cells[0]:
+            start = _rectangle_at(row_runs[last], n_last, cells[1])
+        if r == cells[2]:
+            goal = _rectangle_at(row_runs[last], n_last, cells[3])
+    for i in range(n_last):
+        rects[row_runs[last, i, 2], LAST_ROW] = rows - 1
+    return count, start, goal
+
+
+@njit(cache=True, inline="always")
+def _row_runs(row, cols, out):  # pragma: no cover - compiled
+    """Free runs of one bit row into ``out[:, :2]``, left to right; returns their number.
+
+    A run starts at a set bit whose left neighbour is clear and ends at a set bit whose
+    right neighbour is clear; both sets of bits are read off a few shifts per word, so a
+    run costs two bit scans whatever its length.
+    """
+    words = row.shape[0]
+    starts = 0
+    ends = 0
+    for w in range(words):
+        x = row[w]
+        left = row[w - 1] >> HIGH if w > 0 else np.uint64(0)
+        right = row[w + 1] << HIGH if w + 1 < words else np.uint64(0)
+        first = x & ~((x << ONE) | left)
+        last = x & ~((x >> ONE) | right)
+        while first:
+            out[starts, 0] = 64 * w + lowest_bit(first)
+            first &= first - ONE
+            starts += 1
+        while last:
+            out[ends, 1] = min(64 * w + lowest_bit(last), cols - 1)  # padding is blocked: stay safe
+            last &= last - ONE
+            ends += 1
+    return starts
+
+
+@njit(cache=True, inline="always")
+def _join(below, n_below, here, n_here, r, rects, links, edges, count, n_edges):  # pragma: no cover
+    """Give each run of row ``r`` its rectangle and record the edges to the rectangles below.
+
+    A run with the extent of a run below continues that rectangle (and touches nothing else
+    below); any other run opens a rectangle, linked to every run below it overlaps. A run
+    below that does not go on closes its rectangle at row ``r - 1``.
+
+    Returns:
+        (rectangles, edges) so far.
+    """
+    i = 0  # the first run below that may still overlap a run of this row
+    for j in range(n_here):
+        lo, hi = here[j, 0], here[j, 1]
+        while i < n_below and below[i, 1] < lo:
+            rects[below[i, 2], LAST_ROW] = r - 1
+            i += 1
+        if i < n_below and below[i, 0] == lo and below[i, 1] == hi:
+            here[j, 2] = below[i, 2]
+            i += 1
+            continue
+        here[j, 2] = count
+        rects[count, FIRST_ROW], rects[count, FIRST_COL], rects[count, LAST_COL] = r, lo, hi
+        links[count, UP_COUNT] = 0
+        links[count, DOWN_FIRST] = n_edges
+        k = i
+        while k < n_below and below[k, 0] <= hi:
+            a = below[k, 2]
+            rects[a, LAST_ROW] = r - 1
+            edges[n_edges, BELOW], edges[n_edges, ABOVE] = a, count
+            if links[a, UP_COUNT] == 0:
+                links[a, UP_FIRST] = n_edges
+            links[a, UP_COUNT] += 1
+            n_edges += 1
+            k += 1
+        links[count, DOWN_COUNT] = n_edges - links[count, DOWN_FIRST]
+        count += 1
+        while i < n_below and below[i, 1] <= hi:
+            i += 1
+    while i < n_below:
+        rects[below[i, 2], LAST_ROW] = r - 1
+        i += 1
+    return count, n_edges
+
+
+@njit(cache=True, inline="always")
+def _rectangle_at(runs, n_runs, c):  # pragma: no cover - compiled
+    for i in range(n_runs):
+        if runs[i, 0] <= c <= runs[i, 1]:
+            return runs[i, 2]
+    return -1
