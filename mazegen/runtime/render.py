@@ -3,13 +3,15 @@
 Both pictures come from one list of drawing primitives laid out in image pixels,
 so the SVG and the PNG show the same thing: the arena (y up, flipped to the
 image's y down), every part of every element as a semi-opaque polygon in the
-element's colour, the start and goal as circles of the robot radius, a title,
-a legend with a count per element type and a scale bar in the arena unit.
+element's colour, the robot's path when the document has one, the start and
+goal as circles of the robot radius, a title, a legend with a count per element
+type and a scale bar in the arena unit.
 """
 
 from __future__ import annotations
 
 import io
+import itertools
 import math
 import os
 import re
@@ -31,6 +33,7 @@ RGB = tuple[int, int, int]
 _DEFAULT_COLOUR: RGB = (85, 85, 85)
 _START: RGB = (44, 160, 44)
 _GOAL: RGB = (214, 39, 40)
+_PATH: RGB = (230, 0, 126)  # magenta: no bundled element is drawn in it
 _INK: RGB = (34, 34, 34)
 _PAPER: RGB = (244, 244, 244)
 _WHITE: RGB = (255, 255, 255)
@@ -58,6 +61,7 @@ class _Scene:
     radius: float
     elements: tuple[_Element, ...]
     fitness: str
+    path: tuple[Point, ...]
 
 
 @dataclass(frozen=True)
@@ -65,7 +69,7 @@ class _Shape:
     """One drawing primitive in image pixels (y down).
 
     ``points`` holds two corners for a rect, the centre for a circle, the ends of
-    a line, every vertex of a polygon and the left baseline point of a text.
+    a line, every vertex of a polygon or polyline and the left baseline point of a text.
     """
 
     kind: str
@@ -96,7 +100,8 @@ def _point(value: Any) -> Point:
     return _number(x), _number(y)
 
 
-def _colour(value: Any) -> RGB:
+def rgb(value: Any) -> RGB:
+    """The red, green and blue of a CSS colour; a colour it cannot read is grey."""
     try:
         r, g, b = ImageColor.getrgb(str(value))[:3]
     except ValueError:
@@ -118,8 +123,9 @@ def _parse(doc: dict) -> _Scene:
             parts = tuple(tuple(_point(p) for p in part) for part in element["parts"])
             if any(len(part) < 3 for part in parts):
                 raise ValueError("a part has fewer than three vertices")
-            elements.append(_Element(_label(element["type"], 40), _colour(element.get("colour")), parts))
+            elements.append(_Element(_label(element["type"], 40), rgb(element.get("colour")), parts))
         fitness = doc.get("fitness")
+        path = doc.get("path") or ()
         return _Scene(
             name=_label(doc.get("scenario", "scenario")),
             width=width,
@@ -130,6 +136,7 @@ def _parse(doc: dict) -> _Scene:
             radius=max(0.0, _number(arena.get("robot_radius", 0.0))),
             elements=tuple(elements),
             fitness=f"{fitness:.4g}" if isinstance(fitness, (int, float)) else "n/a",
+            path=tuple(_point(p) for p in path) if len(path) >= 2 else (),
         )
     except (KeyError, TypeError, ValueError) as exc:
         raise MazeError(f"bad scenario document: {exc!r}") from exc
@@ -141,8 +148,11 @@ def _nice_length(target: float) -> float:
     return next(m * power for m in (5, 2, 1) if m * power <= target)
 
 
-def _length_text(length: float) -> str:
-    return str(round(length)) if length >= 1 else f"{length:.{-math.floor(math.log10(length))}f}"
+def _with_unit(length: float, unit: str) -> str:
+    """``length`` (whole, or to its first significant decimal below 1) and the unit: ``200 cm``."""
+    whole = length >= 1 or length <= 0
+    number = str(round(length)) if whole else f"{length:.{-math.floor(math.log10(length))}f}"
+    return f"{number} {unit}".rstrip()
 
 
 def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
@@ -154,7 +164,7 @@ def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
     row, title_h, bottom_h = 1.6 * font, pad + 1.8 * font, 2.6 * font + pad
     k = min((pixels - 3 * pad - side) / scene.width, (pixels - title_h - bottom_h) / scene.height)
     types = Counter(e.kind for e in scene.elements)
-    rows = len(types) + 2
+    rows = len(types) + 2 + bool(scene.path)  # the types, start, goal and the path
     max_rows = int((pixels - title_h - pad) / row)
     width = round(3 * pad + side + k * scene.width)
     legend_h = title_h + min(rows, max_rows) * row
@@ -182,11 +192,13 @@ def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
             )
             for part in element.parts
         ]
+    if scene.path:
+        shapes.append(_Shape("polyline", tuple(at(p) for p in scene.path), stroke=_PATH, width=2.5 * u))
     radius = max(3.0, k * scene.radius)
     for point, colour in ((scene.start, _START), (scene.goal, _GOAL)):
         shapes.append(_Shape("circle", (at(point),), colour, _darker(colour), 0.85, 1.5 * u, radius))
 
-    # Legend: one row per element type (sorted), then start and goal.
+    # Legend: one row per element type (sorted), then start, goal and the path.
     colours = {e.kind: e.colour for e in reversed(scene.elements)}
     chars = int((side - 2 * font) / (0.6 * font))
     entries: list[tuple[str, str, RGB]] = [
@@ -194,6 +206,9 @@ def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
         for kind, count in sorted(types.items())
     ]
     entries += [("circle", "start", _START), ("circle", "goal", _GOAL)]
+    if scene.path:
+        travelled = sum(math.dist(a, b) for a, b in itertools.pairwise(scene.path))
+        entries.append(("line", f"path ({_with_unit(travelled, scene.unit)})", _PATH))
     if len(entries) > max_rows:
         hidden = len(entries) - max_rows + 1
         entries = [*entries[: max_rows - 1], ("none", f"+{hidden} more", _INK)]
@@ -207,6 +222,10 @@ def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
         elif swatch == "circle":
             shapes.append(
                 _Shape("circle", ((lx + font / 2, y + font / 2),), colour, _darker(colour), 0.85, u, font / 2)
+            )
+        elif swatch == "line":
+            shapes.append(
+                _Shape("line", ((lx, y + font / 2), (lx + font, y + font / 2)), stroke=colour, width=2.5 * u)
             )
         shapes.append(_Shape("text", ((lx + 1.6 * font, y + 0.85 * font),), fill=_INK, width=font, text=text))
 
@@ -223,7 +242,7 @@ def _layout(scene: _Scene, pixels: int) -> tuple[int, int, list[_Shape]]:
             ((x1 + 0.6 * font, y0 + 0.35 * font),),
             fill=_INK,
             width=font,
-            text=f"{_length_text(length)} {scene.unit}".rstrip(),
+            text=_with_unit(length, scene.unit),
         ),
     ]
     return width, height, shapes
@@ -264,9 +283,9 @@ def _svg_element(shape: _Shape) -> str:
         return (
             f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(x1 - x0)}" height="{_f(y1 - y0)}" {_paint(shape)}/>'
         )
-    if shape.kind == "polygon":
+    if shape.kind in ("polygon", "polyline"):
         points = " ".join(f"{_f(x)},{_f(y)}" for x, y in shape.points)
-        return f'<polygon points="{points}" {_paint(shape)} stroke-linejoin="round"/>'
+        return f'<{shape.kind} points="{points}" {_paint(shape)} stroke-linejoin="round"/>'
     if shape.kind == "circle":
         ((x, y),) = shape.points
         return f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(shape.radius)}" {_paint(shape)}/>'
@@ -334,8 +353,8 @@ def scenario_png(doc: dict, *, pixels: int = 800) -> bytes:
         elif shape.kind == "circle":
             (x, y), r = xy[0], shape.radius * s
             draw.ellipse([(x - r, y - r), (x + r, y + r)], fill=fill, outline=shape.stroke, width=line)
-        elif shape.kind == "line":
-            draw.line(xy, fill=shape.stroke, width=line)
+        elif shape.kind in ("line", "polyline"):
+            draw.line(xy, fill=shape.stroke, width=line, joint="curve")
         else:
             font = ImageFont.load_default(size=shape.width * s)
             draw.text(xy[0], shape.text, fill=shape.fill, font=font, anchor="ls")

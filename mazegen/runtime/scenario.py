@@ -1,8 +1,9 @@
 """Scenario documents (JSON format ``mazegen-scenario`` version 1): writing and reading back.
 
-See ``docs/scenario-format.md``. A document lists each element's type, position,
-size and rotation, plus its world polygons for consumers that do not know the
-element types. Reading a document back (for ``mazegen score``) uses only the
+See ``docs/scenario-format.md`` (and its schema, ``docs/scenario.schema.json``). A
+document lists each element's type, position, size and rotation, plus its world
+polygons for consumers that do not know the element types, and the robot's path
+when there is one. Reading a document back (for ``mazegen score``) uses only the
 types and parameters; the polygons are recomputed.
 """
 
@@ -17,7 +18,9 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
+from mazegen.runtime.cspace import grid_of
 from mazegen.runtime.geometry import ElementTable, world_vertices
+from mazegen.runtime.navigation import path_of
 from mazegen.runtime.population import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.spec import Spec
 
@@ -30,7 +33,8 @@ def _round(value: float) -> float:
     return round(float(value), DIGITS)
 
 
-def _arena(spec: Spec) -> dict[str, Any]:
+def arena_document(spec: Spec) -> dict[str, Any]:
+    """The ``arena`` object of a document: the spec's floor, start, goal and robot."""
     a = spec.arena
     return {
         "name": a.name,
@@ -61,7 +65,8 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
             "height": kind.height,
             "x": _round(p[X]),
             "y": _round(p[Y]),
-            "rotation": _round(math.degrees(p[THETA]) % 360.0),
+            # Rounded first: 359.99996 degrees must not round up to 360.
+            "rotation": _round(math.degrees(p[THETA])) % 360.0,
         }
         if kind.uniform:
             item["size"] = _round(p[SX])
@@ -70,6 +75,26 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
         item["parts"] = [parts[k][: table.n_vertices[e, k]] for k in range(table.n_parts[e])]
         out.append(item)
     return out
+
+
+def robot_path(population: Population, index: int) -> list[list[float]] | None:
+    """The corners of individual ``index``'s path from start to goal, or None when it has none.
+
+    The path is the engine's own (:func:`~mazegen.runtime.navigation.path_of` on the
+    arena's grid), rounded to :data:`DIGITS` decimals, without repeated corners.
+    """
+    corners = path_of(population, grid_of(population.arena), index)
+    if corners is None:
+        return None
+    points = np.round(corners, DIGITS).tolist()
+    return [point for k, point in enumerate(points) if k == 0 or point != points[k - 1]]
+
+
+def _metrics(population: Population, index: int) -> dict[str, Any]:
+    return {
+        key: value if not isinstance(value, float) else _round(value)
+        for key, value in population.survey.summary(index).items()
+    }
 
 
 def scenario_key(population: Population, index: int) -> bytes:
@@ -94,15 +119,13 @@ def scenario_document(
         "format": FORMAT,
         "version": VERSION,
         "scenario": spec.name,
-        "arena": _arena(spec),
+        "arena": arena_document(spec),
         "elements": element_documents(spec, population, index),
         "phenotype": phenotype,
         "fitness": fitness if math.isfinite(fitness) else None,
         "terms": {key: float(value) + 0.0 for key, value in terms.items()},  # + 0.0 turns -0.0 into 0.0
-        "metrics": {
-            key: value if not isinstance(value, float) else _round(value)
-            for key, value in population.survey.summary(index).items()
-        },
+        "metrics": _metrics(population, index),
+        "path": robot_path(population, index),
         "valid": bool(math.isfinite(fitness)),
         "origin": origin,
     }
@@ -113,11 +136,63 @@ def dumps(document: dict[str, Any]) -> str:
     return json.dumps(document, indent=1, sort_keys=False) + "\n"
 
 
+def _is_number(value: Any) -> bool:
+    return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
+
+
+def _is_point(value: Any) -> bool:
+    return isinstance(value, list) and len(value) == 2 and all(_is_number(v) for v in value)
+
+
 def _number(item: dict[str, Any], key: str, where: str) -> float:
-    value = item.get(key)
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+    value: Any = item.get(key)
+    if not _is_number(value):
         raise MazeError(f"{where}: '{key}' must be a number")
     return float(value)
+
+
+def _points(value: Any, least: int, where: str) -> None:
+    """Check that ``value`` is a list of at least ``least`` ``[x, y]`` points."""
+    if not (isinstance(value, list) and len(value) >= least and all(_is_point(p) for p in value)):
+        raise MazeError(f"{where} must be a list of at least {least} [x, y] points")
+
+
+def check_complete(document: dict[str, Any], filename: str) -> None:
+    """Check what consumers of a whole document read (read with :func:`read_document` first).
+
+    The arena's size, start, goal and robot radius, each element's type, position,
+    rotation, height and world parts, and the path when there is one.
+
+    Raises:
+        MazeError: Naming the file and what is wrong.
+    """
+    arena = document.get("arena")
+    if not isinstance(arena, dict):
+        raise MazeError("'arena' must be an object", filename=filename)
+    for key in ("width", "height"):
+        if _number(arena, key, f"{filename}: arena") <= 0:
+            raise MazeError(f"{filename}: arena: '{key}' must be positive")
+    for key in ("start", "goal"):
+        if not _is_point(arena.get(key)):
+            raise MazeError(f"{filename}: arena: '{key}' must be an [x, y] point")
+    if "robot_radius" in arena:
+        _number(arena, "robot_radius", f"{filename}: arena")
+    for slot, item in enumerate(document["elements"]):
+        where = f"{filename}: element {slot + 1}"
+        if not isinstance(item, dict) or not isinstance(item.get("type"), str):
+            raise MazeError(f"{where}: 'type' must be a string")
+        for key in ("x", "y"):
+            _number(item, key, where)
+        for key in ("rotation", "height"):
+            if key in item:
+                _number(item, key, where)
+        parts = item.get("parts")
+        if not isinstance(parts, list) or not parts:
+            raise MazeError(f"{where}: 'parts' must be a list of polygons")
+        for part in parts:
+            _points(part, 3, f"{where}: a part")
+    if document.get("path") is not None:
+        _points(document["path"], 2, f"{filename}: 'path'")
 
 
 def read_document(path: Path) -> dict[str, Any]:
@@ -177,7 +252,10 @@ def population_from_document(
 
 
 def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> dict[str, Any]:
-    """A document with the spec's arena and every element's parts recomputed (hand-written floors)."""
+    """A document with the spec's arena, every element's parts, the metrics and the path recomputed.
+
+    For hand-written floors, which give only each element's type and placement.
+    """
     population = population_from_document(
         spec, ElementTable.from_types(spec.scenario_elements), document, filename
     )
@@ -191,6 +269,8 @@ def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> d
         "valid": True,
         "origin": {},
         **document,
-        "arena": _arena(spec),
+        "arena": arena_document(spec),
         "elements": element_documents(spec, population, 0),
+        "metrics": _metrics(population, 0),
+        "path": robot_path(population, 0),
     }

@@ -6,6 +6,7 @@ import io
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+import numpy as np
 import pytest
 from PIL import Image
 
@@ -170,3 +171,35 @@ def test_bad_document_is_a_maze_error() -> None:
     bad = document(element("cobot", "#e4572e", [[0, 0], [1, 1]]))
     with pytest.raises(MazeError, match="three vertices"):
         scenario_png(bad)
+
+
+def test_path_is_drawn_over_the_elements_and_named_in_the_legend(doc: dict) -> None:
+    doc["path"] = [[60.0, 60.0], [700.0, 60.0], [1340.0, 990.0]]
+    root = ET.fromstring(scenario_svg(doc))
+    (line,) = root.findall(f"{SVG}polyline")
+    points = [tuple(map(float, p.split(","))) for p in line.get("points", "").split()]
+    circles = root.findall(f"{SVG}circle")
+    start, goal = circles[0], circles[1]
+    assert points[0] == pytest.approx((float(start.get("cx", "0")), float(start.get("cy", "0"))), abs=0.01)
+    assert points[-1] == pytest.approx((float(goal.get("cx", "0")), float(goal.get("cy", "0"))), abs=0.01)
+    assert points[1][1] == pytest.approx(points[0][1])  # the first leg runs along y = 60
+    children = list(root)
+    assert children.index(line) > max(children.index(p) for p in root.findall(f"{SVG}polygon"))
+    assert line.get("fill") == "none" and line.get("stroke") == "#e6007e"
+    assert "path (1769 cm)" in texts(scenario_svg(doc))  # 640 + hypot(640, 930) = 1768.9
+
+
+def test_png_shows_the_path(doc: dict) -> None:
+    def magenta(data: bytes) -> int:
+        r, g, b = np.asarray(Image.open(io.BytesIO(data)).convert("RGB"), dtype=int).transpose(2, 0, 1)
+        return int(((r > 200) & (g < 60) & (b > 90) & (b < 160)).sum())
+
+    without = magenta(scenario_png(doc))
+    doc["path"] = [[60.0, 60.0], [1340.0, 990.0]]
+    assert magenta(scenario_png(doc)) > without + 300
+
+
+def test_no_path_no_polyline(doc: dict) -> None:
+    doc["path"] = None
+    assert not ET.fromstring(scenario_svg(doc)).findall(f"{SVG}polyline")
+    assert not any(t.startswith("path") for t in texts(scenario_svg(doc)))
