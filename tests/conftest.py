@@ -20,3 +20,14 @@ def write_spec(tmp_path: Path):
         return path
 
     return write
+
+
+@pytest.fixture(scope="session")
+def factory_run(tmp_path_factory) -> Path:
+    """A small run directory of examples/factory.maze (2 runs, 4 best scenarios each); do not modify it."""
+    import mazegen
+
+    spec = mazegen.load(EXAMPLES / "factory.maze").with_evolution(best=4)
+    out = tmp_path_factory.mktemp("factory") / "run"
+    mazegen.run(spec, runs=2, population=80, generations=3, out_dir=out)
+    return out

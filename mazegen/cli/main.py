@@ -7,6 +7,7 @@ import click
 from mazegen import __version__
 from mazegen.cli.build import build
 from mazegen.cli.check import check
+from mazegen.cli.export import export
 from mazegen.cli.map import map_command
 from mazegen.cli.render import render
 from mazegen.cli.run import run
@@ -20,5 +21,5 @@ def main() -> None:
     """Generate robot-navigation test scenarios from .maze specs by grammatical evolution."""
 
 
-for command in (check, build, run, suite, map_command, score, render):
+for command in (check, build, run, suite, map_command, score, render, export):
     main.add_command(command)

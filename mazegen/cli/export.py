@@ -1,0 +1,69 @@
+"""``mazegen export SCENARIO.json|RUN_DIR --format FORMAT [-o DIR]``: scenarios for other tools."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from mazegen.cli.errors import reports_errors
+
+FORMAT_NAMES = ("ros", "gazebo", "movingai", "json", "svg", "png")
+"""The names of :data:`mazegen.runtime.exporters.FORMATS`, known here without importing the runtime."""
+
+
+@click.command()
+@click.argument("source", type=click.Path(exists=True, path_type=Path))
+@click.option(
+    "-f",
+    "--format",
+    "fmt",
+    required=True,
+    type=click.Choice(FORMAT_NAMES),
+    help="ros: PGM + YAML map; gazebo: SDF world; movingai: .map + .scen; json; svg; png.",
+)
+@click.option(
+    "-o",
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Directory to write into (default exports/FORMAT/ beside the scenario, or in RUN_DIR).",
+)
+@click.option(
+    "--spec",
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+    help="The scenarios' spec, when it is not in their run or suite directory.",
+)
+@click.option(
+    "--cell",
+    type=float,
+    help="movingai: cell size in arena units (default the spec's navigation grid cell).",
+)
+@click.option(
+    "--scale",
+    type=click.FloatRange(min=0, min_open=True),
+    help="ros, gazebo: metres per arena unit (default from the unit; 1 px = 1 cm).",
+)
+@click.option("--force", is_flag=True, help="Replace files that exist already.")
+@reports_errors
+def export(
+    source: Path,
+    fmt: str,
+    out: Path | None,
+    spec: Path | None,
+    cell: float | None,
+    scale: float | None,
+    force: bool,
+) -> None:
+    """Export SOURCE (a scenario JSON file, or every best scenario of a run or suite directory)."""
+    from mazegen.runtime.exporters.batch import default_out_dir, export_plan, write_files
+    from mazegen.runtime.exporters.floor import ExportOptions
+
+    resolved = None
+    if spec is not None:
+        from mazegen.dsl.loader import load_spec
+
+        resolved = load_spec(spec)
+    target = out or default_out_dir(source, fmt)
+    files = export_plan(source, fmt, target, spec=resolved, options=ExportOptions(scale=scale, cell=cell))
+    write_files(files, force=force)
+    click.echo(f"wrote {len(files)} files to {target}")

@@ -1,0 +1,47 @@
+"""Scenarios in the formats navigation is tested in, one module per format.
+
+Every format is a function of a :class:`~mazegen.runtime.exporters.floor.Floor` and
+the :class:`~mazegen.runtime.exporters.floor.ExportOptions` that returns the files
+it makes, by name; the same scenario always gives the same bytes.
+See ``docs/exports.md``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from mazegen.runtime.exporters.floor import ExportOptions, Floor
+from mazegen.runtime.exporters.gazebo import gazebo_files
+from mazegen.runtime.exporters.movingai import movingai_files
+from mazegen.runtime.exporters.ros import ros_files
+from mazegen.runtime.render import scenario_png, scenario_svg
+from mazegen.runtime.scenario import dumps
+
+Files = dict[str, bytes]
+"""Exported files: name (``best-01.pgm``) to content."""
+
+
+def json_files(floor: Floor, options: ExportOptions) -> Files:
+    """``NAME.json``: the scenario document, MazeGen's canonical format."""
+    return {f"{floor.name}.json": dumps(floor.document).encode("utf-8")}
+
+
+def svg_files(floor: Floor, options: ExportOptions) -> Files:
+    """``NAME.svg``: the drawing of the scenario."""
+    return {f"{floor.name}.svg": scenario_svg(floor.document).encode("utf-8")}
+
+
+def png_files(floor: Floor, options: ExportOptions) -> Files:
+    """``NAME.png``: the drawing of the scenario."""
+    return {f"{floor.name}.png": scenario_png(floor.document)}
+
+
+FORMATS: dict[str, Callable[[Floor, ExportOptions], Files]] = {
+    "ros": ros_files,
+    "gazebo": gazebo_files,
+    "movingai": movingai_files,
+    "json": json_files,
+    "svg": svg_files,
+    "png": png_files,
+}
+"""Every export format by the name ``mazegen export --format`` takes."""

@@ -1,0 +1,189 @@
+"""A scenario to export: its document, the spec it was made under when known, and its grids.
+
+Drawings, JSON and Gazebo worlds need only the document (its elements' world
+polygons). Occupancy maps need the engine's own grid, which the spec defines:
+the spec comes from ``--spec`` or is found beside the scenario (``spec.json`` of
+a suite directory, ``../experiment/spec.json`` of a run directory).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from mazegen.errors import MazeError
+from mazegen.runtime.cspace import Grid, free_cells, grid_of, point_grid_of
+from mazegen.runtime.geometry import ElementTable
+from mazegen.runtime.population import Population
+from mazegen.runtime.problem import read_build_spec
+from mazegen.runtime.scenario import (
+    arena_document,
+    check_complete,
+    completed_document,
+    population_from_document,
+    read_document,
+)
+from mazegen.spec import Spec
+
+METRES_PER_UNIT = {"mm": 0.001, "cm": 0.01, "m": 1.0, "px": 0.01}
+"""Metres per arena unit; ``px`` has no physical size, so exports take 1 px = 1 cm."""
+
+MAX_CELLS_PER_SIDE = 4096
+"""Largest grid side a grid export accepts: beyond it maps are too large to search."""
+
+
+@dataclass(frozen=True)
+class ExportOptions:
+    """Settings of an export that are not in the scenario.
+
+    Attributes:
+        scale: Metres per arena unit, or None for the unit's own (:data:`METRES_PER_UNIT`).
+        cell: Cell size of a MovingAI map in arena units, or None for the engine's grid cell.
+    """
+
+    scale: float | None = None
+    cell: float | None = None
+
+
+@dataclass(frozen=True)
+class Floor:
+    """One scenario document ready to export.
+
+    Attributes:
+        document: The scenario document, every element with its ``parts``.
+        spec: The spec the scenario was made under, or None when unknown.
+        source: The scenario file.
+    """
+
+    document: dict[str, Any]
+    spec: Spec | None
+    source: Path
+
+    @property
+    def name(self) -> str:
+        """Stem every exported file is named after (``best-01``)."""
+        return self.source.stem
+
+    @property
+    def where(self) -> str:
+        """The scenario file, for messages."""
+        return str(self.source)
+
+    @property
+    def arena(self) -> dict[str, Any]:
+        """The document's ``arena`` object."""
+        return self.document["arena"]
+
+    def metres_per_unit(self, options: ExportOptions) -> float:
+        """Metres per arena unit: ``options.scale``, else the arena unit's.
+
+        Raises:
+            MazeError: For a scale that is not positive, or a unit of unknown size and no scale.
+        """
+        if options.scale is not None:
+            if not (math.isfinite(options.scale) and options.scale > 0):
+                raise MazeError(f"--scale must be a positive number of metres, got {options.scale:g}")
+            return options.scale
+        unit = self.arena.get("unit")
+        if unit not in METRES_PER_UNIT:
+            raise MazeError(
+                f"arena unit {unit!r} has no known size in metres: give --scale", filename=self.where
+            )
+        return METRES_PER_UNIT[unit]
+
+    def needs_spec(self, what: str) -> Spec:
+        """The spec, or a one-line error saying that ``what`` needs it."""
+        if self.spec is None:
+            raise MazeError(
+                f"{what} needs the spec the scenario was made under: give --spec SPEC.maze "
+                "(scenarios in a run or suite directory find it there)",
+                filename=self.where,
+            )
+        return self.spec
+
+    @cached_property
+    def population(self) -> Population:
+        """The scenario as the engine sees it: a one-individual population built from the spec."""
+        spec = self.needs_spec("this export")
+        table = ElementTable.from_types(spec.scenario_elements)
+        return population_from_document(spec, table, self.document, self.where)
+
+    def occupancy(self) -> tuple[np.ndarray, Grid]:
+        """``bool[rows, cols]``: the cells the elements occupy on the engine's grid (row 0 at y = 0).
+
+        The engine's configuration space for a point robot: no disc dilation, and blocked
+        only where elements touch, or for a partial edge cell whose centre lies outside the arena.
+        """
+        grid = point_grid_of(self.needs_spec("an occupancy map").arena)
+        return ~free_cells(self.population, grid, 0), grid
+
+    def configuration_space(self, cell: float | None) -> tuple[np.ndarray, Grid]:
+        """``bool[rows, cols]`` free cells for the robot's centre, on a grid of ``cell`` (row 0 at y = 0).
+
+        Raises:
+            MazeError: For a cell that is not positive or gives too large a grid.
+        """
+        arena = self.needs_spec("a grid map").arena
+        if cell is not None:
+            if not (math.isfinite(cell) and cell > 0):
+                raise MazeError(f"--cell must be a positive number of arena units, got {cell:g}")
+            sides = [math.ceil(side / cell - 1e-9) for side in (arena.width, arena.height)]
+            if max(sides) > MAX_CELLS_PER_SIDE:
+                raise MazeError(
+                    f"--cell {cell:g} gives a {sides[0]} x {sides[1]} grid; "
+                    f"at most {MAX_CELLS_PER_SIDE} cells a side: choose a larger cell"
+                )
+            arena = replace(arena, grid=cell)
+        grid = grid_of(arena)
+        return free_cells(self.population, grid, 0), grid
+
+
+def load_floor(path: Path, spec: Spec | None = None) -> Floor:
+    """Read a scenario file for export, with its spec when given or found beside it.
+
+    A document without every element's ``parts`` or without a ``path`` (hand-written,
+    or written before paths were recorded) is completed from the spec when there is one.
+
+    Raises:
+        MazeError: For an unreadable file, a document that is not a scenario or is
+            damaged, a spec whose arena differs from the document's, or parts missing
+            with no spec.
+    """
+    document = read_document(path)
+    explicit = spec is not None
+    spec = spec if explicit else _found_spec(path, document)
+    if spec is not None:
+        recorded = document.get("arena")
+        if recorded is not None and recorded != arena_document(spec):
+            if explicit:
+                raise MazeError(
+                    f"the arena of spec '{spec.name}' differs from the scenario's", filename=str(path)
+                )
+            spec = None
+    if spec is not None and not (_has_parts(document) and "arena" in document and "path" in document):
+        document = completed_document(spec, document, str(path))
+    if not _has_parts(document):
+        raise MazeError(
+            "the scenario's elements have no 'parts': give --spec SPEC.maze to compute them",
+            filename=str(path),
+        )
+    check_complete(document, str(path))
+    return Floor(document, spec, path)
+
+
+def _has_parts(document: dict[str, Any]) -> bool:
+    return all(isinstance(element, dict) and "parts" in element for element in document["elements"])
+
+
+def _found_spec(path: Path, document: dict[str, Any]) -> Spec | None:
+    """The spec of the suite or run directory holding ``path``, if it is the document's."""
+    for build_dir in (path.parent, path.parent.parent / "experiment"):
+        if (build_dir / "spec.json").is_file():
+            spec = read_build_spec(build_dir)
+            return spec if spec.name == document.get("scenario") else None
+    return None
