@@ -10,6 +10,7 @@ from mazegen.cli.check import check
 from mazegen.cli.export import export
 from mazegen.cli.map import map_command
 from mazegen.cli.render import render
+from mazegen.cli.report import report
 from mazegen.cli.run import run
 from mazegen.cli.score import score
 from mazegen.cli.suite import suite
@@ -21,5 +22,5 @@ def main() -> None:
     """Generate robot-navigation test scenarios from .maze specs by grammatical evolution."""
 
 
-for command in (check, build, run, suite, map_command, score, render, export):
+for command in (check, build, run, suite, map_command, score, render, export, report):
     main.add_command(command)

@@ -1,0 +1,148 @@
+"""`mazegen export` and `mazegen report` as a user runs them."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from mazegen.cli.export import FORMAT_NAMES
+from mazegen.cli.main import main
+from mazegen.runtime.exporters import FORMATS
+from tests.conftest import EXAMPLES
+
+SUFFIXES = {
+    "ros": {".pgm", ".yaml"},
+    "gazebo": {".sdf"},
+    "movingai": {".map", ".scen"},
+    "json": {".json"},
+    "svg": {".svg"},
+    "png": {".png"},
+}
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(main, list(args), catch_exceptions=False)
+
+
+def files(directory: Path) -> dict[str, bytes]:
+    return {
+        str(p.relative_to(directory)): p.read_bytes() for p in sorted(directory.rglob("*")) if p.is_file()
+    }
+
+
+def test_the_cli_knows_every_format():
+    assert FORMAT_NAMES == tuple(FORMATS) == tuple(SUFFIXES)
+
+
+@pytest.mark.parametrize("fmt", FORMAT_NAMES)
+def test_a_run_directory_exports_every_best_scenario_the_same_way_twice(factory_run, tmp_path, fmt):
+    out = tmp_path / "out"
+    result = invoke("export", str(factory_run), "--format", fmt, "-o", str(out))
+    assert result.exit_code == 0, result.output
+    written = files(out)
+    names = {f"{run}/best-{rank:02d}{suffix}" for run in ("run-01", "run-02") for rank in range(1, 5)
+             for suffix in SUFFIXES[fmt]}  # fmt: skip
+    assert set(written) == names
+    assert result.output == f"wrote {len(names)} files to {out}\n"
+    again = invoke("export", str(factory_run), "--format", fmt, "-o", str(out), "--force")
+    assert again.exit_code == 0 and files(out) == written
+
+
+def test_one_scenario_exports_beside_itself_by_default(factory_run, tmp_path):
+    run = tmp_path / "run"
+    shutil.copytree(factory_run, run)
+    scenario = run / "run-01" / "best-02.json"
+    assert invoke("export", str(scenario), "-f", "ros").exit_code == 0
+    assert sorted(p.name for p in (run / "run-01" / "exports" / "ros").iterdir()) == [
+        "best-02.pgm",
+        "best-02.yaml",
+    ]
+    assert invoke("export", str(run), "-f", "movingai").exit_code == 0
+    assert (run / "exports" / "movingai" / "run-02" / "best-04.scen").is_file()
+
+
+def test_a_hand_drawn_floor_exports_with_its_spec(tmp_path):
+    floor = {
+        "format": "mazegen-scenario",
+        "version": 1,
+        "elements": [{"type": "productionLine", "x": 700, "y": 525, "width": 500, "depth": 80}],
+    }
+    path = tmp_path / "floor.json"
+    path.write_text(json.dumps(floor))
+    without = invoke("export", str(path), "-f", "svg")
+    assert without.exit_code == 1
+    assert (
+        without.stderr.strip()
+        == f"{path}: the scenario's elements have no 'parts': give --spec SPEC.maze to compute them"
+    )
+    result = invoke(
+        "export", str(path), "-f", "json", "--spec", str(EXAMPLES / "factory.maze"), "-o", str(tmp_path)
+    )
+    assert result.exit_code == 1 and "already exists" in result.stderr  # it would replace the floor itself
+    result = invoke("export", str(path), "-f", "json", "--spec", str(EXAMPLES / "factory.maze"))
+    assert result.exit_code == 0, result.output
+    document = json.loads((tmp_path / "exports" / "json" / "floor.json").read_text())
+    assert document["elements"][0]["parts"] and document["metrics"]["solvable"] and len(document["path"]) >= 2
+
+
+def write(path: Path, text: str) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    return path
+
+
+def test_user_mistakes_are_one_line_errors(factory_run, tmp_path):
+    alone = write(tmp_path / "alone" / "best-01.json", (factory_run / "run-01" / "best-01.json").read_text())
+    other = write(tmp_path / "other.json", '{"format": "something"}')
+    damaged = json.loads(alone.read_text())
+    damaged["elements"][1]["x"] = "left"
+    damaged = write(tmp_path / "damaged" / "best-01.json", json.dumps(damaged))
+    cases = [
+        (["export", str(other), "-f", "svg"], 1, f"{other}: not a scenario file"),
+        (["export", str(tmp_path / "alone"), "-f", "svg"], 1, "not a run or suite directory"),
+        (["export", str(damaged), "-f", "gazebo"], 1, f"{damaged}: element 2: 'x' must be a number"),
+        (["export", str(alone), "-f", "ros"], 1, "needs the spec the scenario was made under"),
+        (["export", str(alone), "-f", "movingai", "--spec", str(EXAMPLES / "workshop.maze")], 1,
+         "the arena of spec 'workshop' differs from the scenario's"),
+        (["export", str(factory_run), "-f", "movingai", "--cell", "-2", "-o", str(tmp_path / "m")], 1,
+         "--cell must be a positive number of arena units, got -2"),
+        (["export", str(alone), "-f", "gazebo", "--scale", "0"], 2, "Invalid value for '--scale'"),
+        (["export", str(alone), "-f", "obj"], 2, "Invalid value for '-f' / '--format'"),
+        (["export", str(tmp_path / "missing.json"), "-f", "svg"], 2, "does not exist"),
+        (["report", str(tmp_path / "alone")], 1, "not a run directory (no experiment.json)"),
+    ]  # fmt: skip
+    for args, status, message in cases:
+        result = invoke(*args)
+        assert result.exit_code == status, (args, result.output)
+        assert message in result.stderr, (args, result.stderr)
+        assert "Traceback" not in result.output
+        if status == 1:
+            assert len(result.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "m").exists()  # nothing written when one scenario fails
+
+
+def test_existing_exports_are_kept_without_force(factory_run, tmp_path):
+    out = tmp_path / "out"
+    assert invoke("export", str(factory_run), "-f", "svg", "-o", str(out)).exit_code == 0
+    mark = out / "run-02" / "best-03.svg"
+    mark.write_text("mine")
+    result = invoke("export", str(factory_run), "-f", "svg", "-o", str(out))
+    assert result.exit_code == 1 and "already exists (use --force" in result.stderr
+    assert mark.read_text() == "mine"
+
+
+def test_report_writes_one_page_and_keeps_an_existing_one(factory_run, tmp_path):
+    page = tmp_path / "report.html"
+    result = invoke("report", str(factory_run), "-o", str(page))
+    assert result.exit_code == 0 and result.output == f"wrote {page}\n"
+    text = page.read_text()
+    assert text.startswith("<!DOCTYPE html>") and text.count("<figure>") == 8
+    page.write_text("mine")
+    refused = invoke("report", str(factory_run), "-o", str(page))
+    assert refused.exit_code == 1 and "already exists" in refused.stderr and page.read_text() == "mine"
+    assert invoke("report", str(factory_run), "-o", str(page), "--force").exit_code == 0
+    assert page.read_text() == text
