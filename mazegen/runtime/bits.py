@@ -53,14 +53,21 @@ def popcount(x):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def set_span(row, first, last):  # pragma: no cover - compiled
-    """Set columns ``first..last`` of a bit row."""
+def span_mask(first, last, w):  # pragma: no cover - compiled
+    """The bits of word ``w`` that lie in columns ``first..last`` (``w`` within their words)."""
+    lo = first - 64 * w if w == first >> 6 else 0
+    hi = last - 64 * w if w == last >> 6 else 63
+    width = hi - lo + 1
+    return ALL if width == 64 else ((ONE << np.uint64(width)) - ONE) << np.uint64(lo)
+
+
+@njit(cache=True, inline="always")
+def set_block(rows, first_row, last_row, first, last):  # pragma: no cover - compiled
+    """Set columns ``first..last`` of bit rows ``first_row..last_row`` of ``rows``."""
     for w in range(first >> 6, (last >> 6) + 1):
-        lo = first - 64 * w if w == first >> 6 else 0
-        hi = last - 64 * w if w == last >> 6 else 63
-        width = hi - lo + 1
-        mask = ALL if width == 64 else ((ONE << np.uint64(width)) - ONE) << np.uint64(lo)
-        row[w] |= mask
+        mask = span_mask(first, last, w)
+        for r in range(first_row, last_row + 1):
+            rows[r, w] |= mask
 
 
 @njit(cache=True, inline="always")

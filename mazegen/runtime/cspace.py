@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.bits import HIGH, ONE, is_set, popcount, set_span
+from mazegen.runtime.bits import HIGH, ONE, is_set, popcount, set_block
 from mazegen.runtime.geometry import _world_element
 
 if TYPE_CHECKING:
@@ -202,8 +202,8 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     # (Slices rather than offset indices: indices the compiler knows are not negative
     # spare it the wrap-around test that would keep these loops from being vectorised.)
     size = dilated.shape[0]
-    dilated[:] = 0
-    for dy in range(-reach, reach + 1):
+    dilated[:] = widened[spans[reach], :size]
+    for dy in range(1 - reach, reach + 1):
         source = widened[spans[abs(dy)], (reach + dy) * stride : (reach + dy) * stride + size]
         for i in range(size):
             dilated[i] |= source[i]
@@ -236,8 +236,7 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
         if box[2] >= 0.0 and box[0] <= cols * cell:
             c0 = max(math.floor(box[0] / cell), 0)
             c1 = min(math.floor(box[2] / cell), cols - 1)
-            for r in range(r0, r1 + 1):
-                set_span(occupied[r], c0, c1)
+            set_block(occupied, r0, r1, c0, c1)
         return
     for r in range(r0, r1 + 1):
         y0 = max(r * cell, box[1])
@@ -265,7 +264,7 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
             continue
         c0 = max(math.floor(lo / cell), 0)
         c1 = min(math.floor(hi / cell), cols - 1)
-        set_span(occupied[r], c0, c1)
+        set_block(occupied, r, r, c0, c1)
 
 
 @njit(cache=True, inline="always")

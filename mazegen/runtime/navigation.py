@@ -208,22 +208,25 @@ def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  # pragma: no cover - compiled
-    """Search rectangle ``start`` → ``goal``; returns (found, path length, corners written to ``corners``)."""
+    """Search rectangle ``start`` → ``goal``; returns (found, path length, corners written to ``corners``).
+
+    The search works in cell units (a rectangle's edges are then its row and column
+    numbers), which keeps multiplications off its chain of dependent steps.
+    """
     rects, links, edges = rectangles[0], rectangles[1], rectangles[2]
     cell = grid[0]
-    points = grid[5]
+    sx, sy, gx, gy = grid[5][0] / cell, grid[5][1] / cell, grid[5][2] / cell, grid[5][3] / cell
     cost, previous, entry, settled, heads, next_entry, members, corridor = search
     for q in range(count):
         cost[q] = np.inf
         settled[q] = False
     cost[start] = 0.0
     previous[start] = -1
-    entry[start, 0], entry[start, 1] = points[0], points[1]
-    gx, gy = points[2], points[3]
+    entry[start, 0], entry[start, 1] = sx, sy
     # A bucket queue ordered by (cost so far + straight line still to go) in cells:
     # constant-time pushes and pops; within a bucket the order is last in, first out.
     last = heads.shape[0] - 1
-    lowest = min(int(math.hypot(gx - points[0], gy - points[1]) / cell), last)
+    lowest = min(int(math.sqrt((gx - sx) * (gx - sx) + (gy - sy) * (gy - sy))), last)
     first_used = highest = lowest
     used = _enqueue(heads, next_entry, members, 0, lowest, start)
     while True:
@@ -244,30 +247,28 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
         for side in range(2):  # the rectangles above, then those below
             first = links[here, UP_FIRST] if side == 0 else links[here, DOWN_FIRST]
             n = links[here, UP_COUNT] if side == 0 else links[here, DOWN_COUNT]
-            y = (rects[here, LAST_ROW] + 1) * cell if side == 0 else rects[here, FIRST_ROW] * cell
+            y = float(rects[here, LAST_ROW] + 1 if side == 0 else rects[here, FIRST_ROW])
             # Cross the shared edge where the line from the entry point towards the goal
             # does (straight on when the goal is not ahead), clamped to the edge.
             aim = ex
             if (gy - ey) * (y - ey) > 0.0 and abs(gy - ey) >= abs(y - ey):
                 aim = ex + (gx - ex) * (y - ey) / (gy - ey)
-            dy2 = (y - ey) * (y - ey)
-            rest_y2 = (gy - y) * (gy - y)
+            rise = (y - ey) * (y - ey)
+            rise_to_goal = (gy - y) * (gy - y)
             lo_here = rects[here, FIRST_COL]
-            hi_here = rects[here, LAST_COL]
+            hi_here = rects[here, LAST_COL] + 1
             for e in range(first, first + n):
                 q = edges[e, ABOVE] if side == 0 else edges[e, BELOW]
                 if settled[q]:
                     continue
-                lo = max(lo_here, rects[q, FIRST_COL]) * cell
-                hi = (min(hi_here, rects[q, LAST_COL]) + 1) * cell
-                x = min(max(aim, lo), hi)
+                x = min(max(aim, max(lo_here, rects[q, FIRST_COL])), min(hi_here, rects[q, LAST_COL] + 1))
                 # sqrt, not hypot: hypot's overflow care costs more than it saves here
-                reached = spent + math.sqrt((x - ex) * (x - ex) + dy2)
+                reached = spent + math.sqrt((x - ex) * (x - ex) + rise)
                 if reached < cost[q]:
                     cost[q] = reached
                     previous[q] = here
                     entry[q, 0], entry[q, 1] = x, y
-                    bucket = min(int((reached + math.sqrt((gx - x) * (gx - x) + rest_y2)) / cell), last)
+                    bucket = min(int(reached + math.sqrt((gx - x) * (gx - x) + rise_to_goal)), last)
                     used = _enqueue(heads, next_entry, members, used, bucket, q)
                     lowest = min(lowest, bucket)
                     first_used = min(first_used, bucket)
@@ -281,8 +282,11 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
         corridor[hops] = q
         hops += 1
         q = previous[q]
-    total, turns = _funnel(rects, corridor, hops, cell, points, portals, corners)
-    return True, total, turns
+    total, turns = _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners)
+    for t in range(turns):
+        corners[t, 0] *= cell
+        corners[t, 1] *= cell
+    return True, total * cell, turns
 
 
 @njit(cache=True, inline="always")
@@ -294,31 +298,31 @@ def _enqueue(heads, next_entry, members, used, bucket, node):  # pragma: no cove
 
 
 @njit(cache=True)
-def _funnel(rects, corridor, hops, cell, points, portals, corners):  # pragma: no cover - compiled
-    """The shortest path from start to goal through the corridor's portals: (length, corners).
+def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma: no cover - compiled
+    """The shortest path from start to goal through the corridor's portals, in cell units: (length, corners).
 
     ``corridor[hops - 1] .. corridor[0]`` are the rectangles from start to goal. Each
     portal is the edge two consecutive rectangles share, written (left, right) as seen
     when walking through it; the funnel algorithm pulls the path taut. The path's
     vertices, start and goal included, go to ``corners``.
     """
-    _portal(portals, 0, points[0], points[1], points[0], points[1])
+    _portal(portals, 0, sx, sy, sx, sy)
     n = 1
     for h in range(hops - 1, 0, -1):
         a, b = corridor[h], corridor[h - 1]
-        lo = max(rects[a, FIRST_COL], rects[b, FIRST_COL]) * cell
-        hi = (min(rects[a, LAST_COL], rects[b, LAST_COL]) + 1) * cell
+        lo = float(max(rects[a, FIRST_COL], rects[b, FIRST_COL]))
+        hi = float(min(rects[a, LAST_COL], rects[b, LAST_COL]) + 1)
         up = rects[b, FIRST_ROW] > rects[a, LAST_ROW]
-        y = rects[b, FIRST_ROW] * cell if up else rects[a, FIRST_ROW] * cell
+        y = float(rects[b, FIRST_ROW] if up else rects[a, FIRST_ROW])
         if up:  # walking up (+y): left is smaller x
             _portal(portals, n, lo, y, hi, y)
         else:
             _portal(portals, n, hi, y, lo, y)
         n += 1
-    _portal(portals, n, points[2], points[3], points[2], points[3])
+    _portal(portals, n, gx, gy, gx, gy)
     n += 1
     total = 0.0
-    ax, ay = points[0], points[1]
+    ax, ay = sx, sy
     corners[0, 0], corners[0, 1] = ax, ay
     turns = 1
     lx, ly, rx, ry = portals[0, 0], portals[0, 1], portals[0, 2], portals[0, 3]
@@ -341,15 +345,15 @@ def _funnel(rects, corridor, hops, cell, points, portals, corners):  # pragma: n
             else:
                 corner, cx, cy = right_at, rx, ry
         if corner >= 0:  # walk to the corner and restart the funnel there
-            total += math.hypot(cx - ax, cy - ay)
+            total += math.sqrt((cx - ax) * (cx - ax) + (cy - ay) * (cy - ay))
             ax, ay = cx, cy
             corners[turns, 0], corners[turns, 1] = ax, ay
             turns += 1
             lx, ly, rx, ry = ax, ay, ax, ay
             left_at = right_at = i = corner
         i += 1
-    corners[turns, 0], corners[turns, 1] = points[2], points[3]
-    return total + math.hypot(points[2] - ax, points[3] - ay), turns + 1
+    corners[turns, 0], corners[turns, 1] = gx, gy
+    return total + math.sqrt((gx - ax) * (gx - ax) + (gy - ay) * (gy - ay)), turns + 1
 
 
 @njit(cache=True, inline="always")

@@ -66,50 +66,50 @@ def decompose(free, cols, cells, arrays):  # pragma: no cover - compiled
                 break
         if not same:
             now = 1 - last
-            below, here = row_runs[last], row_runs[now]
-            n_now = _row_runs(free[r], cols, here)
-            count, n_edges = _join(below, n_last, here, n_now, r, rects, links, edges, count, n_edges)
+            n_now = _row_runs(free, r, cols, row_runs, now)
+            count, n_edges = _join(row_runs, last, n_last, now, n_now, r, rects, links, edges, count, n_edges)
             last, n_last = now, n_now
         if r == cells[0]:
-            start = _rectangle_at(row_runs[last], n_last, cells[1])
+            start = _rectangle_at(row_runs, last, n_last, cells[1])
         if r == cells[2]:
-            goal = _rectangle_at(row_runs[last], n_last, cells[3])
+            goal = _rectangle_at(row_runs, last, n_last, cells[3])
     for i in range(n_last):
         rects[row_runs[last, i, 2], LAST_ROW] = rows - 1
     return count, start, goal
 
 
 @njit(cache=True, inline="always")
-def _row_runs(row, cols, out):  # pragma: no cover - compiled
-    """Free runs of one bit row into ``out[:, :2]``, left to right; returns their number.
+def _row_runs(free, r, cols, out, slot):  # pragma: no cover - compiled
+    """Free runs of row ``r`` into ``out[slot, :, :2]``, left to right; returns their number.
 
     A run starts at a set bit whose left neighbour is clear and ends at a set bit whose
     right neighbour is clear; both sets of bits are read off a few shifts per word, so a
     run costs two bit scans whatever its length.
     """
-    words = row.shape[0]
+    words = free.shape[1]
     starts = 0
     ends = 0
     for w in range(words):
-        x = row[w]
-        left = row[w - 1] >> HIGH if w > 0 else np.uint64(0)
-        right = row[w + 1] << HIGH if w + 1 < words else np.uint64(0)
+        x = free[r, w]
+        left = free[r, w - 1] >> HIGH if w > 0 else np.uint64(0)
+        right = free[r, w + 1] << HIGH if w + 1 < words else np.uint64(0)
         first = x & ~((x << ONE) | left)
         last = x & ~((x >> ONE) | right)
         while first:
-            out[starts, 0] = 64 * w + lowest_bit(first)
+            out[slot, starts, 0] = 64 * w + lowest_bit(first)
             first &= first - ONE
             starts += 1
         while last:
-            out[ends, 1] = min(64 * w + lowest_bit(last), cols - 1)  # padding is blocked: stay safe
+            out[slot, ends, 1] = min(64 * w + lowest_bit(last), cols - 1)  # padding is blocked: stay safe
             last &= last - ONE
             ends += 1
     return starts
 
 
 @njit(cache=True, inline="always")
-def _join(below, n_below, here, n_here, r, rects, links, edges, count, n_edges):  # pragma: no cover
-    """Give each run of row ``r`` its rectangle and record the edges to the rectangles below.
+def _join(runs, below, n_below, here, n_here, r, rects, links, edges, count, n_edges):  # pragma: no cover
+    """Give each run of row ``r`` (``runs[here]``) its rectangle and record the edges to the
+    rectangles of the row below (``runs[below]``).
 
     A run with the extent of a run below continues that rectangle (and touches nothing else
     below); any other run opens a rectangle, linked to every run below it overlaps. A run
@@ -120,21 +120,21 @@ def _join(below, n_below, here, n_here, r, rects, links, edges, count, n_edges):
     """
     i = 0  # the first run below that may still overlap a run of this row
     for j in range(n_here):
-        lo, hi = here[j, 0], here[j, 1]
-        while i < n_below and below[i, 1] < lo:
-            rects[below[i, 2], LAST_ROW] = r - 1
+        lo, hi = runs[here, j, 0], runs[here, j, 1]
+        while i < n_below and runs[below, i, 1] < lo:
+            rects[runs[below, i, 2], LAST_ROW] = r - 1
             i += 1
-        if i < n_below and below[i, 0] == lo and below[i, 1] == hi:
-            here[j, 2] = below[i, 2]
+        if i < n_below and runs[below, i, 0] == lo and runs[below, i, 1] == hi:
+            runs[here, j, 2] = runs[below, i, 2]
             i += 1
             continue
-        here[j, 2] = count
+        runs[here, j, 2] = count
         rects[count, FIRST_ROW], rects[count, FIRST_COL], rects[count, LAST_COL] = r, lo, hi
         links[count, UP_COUNT] = 0
         links[count, DOWN_FIRST] = n_edges
         k = i
-        while k < n_below and below[k, 0] <= hi:
-            a = below[k, 2]
+        while k < n_below and runs[below, k, 0] <= hi:
+            a = runs[below, k, 2]
             rects[a, LAST_ROW] = r - 1
             edges[n_edges, BELOW], edges[n_edges, ABOVE] = a, count
             if links[a, UP_COUNT] == 0:
@@ -144,17 +144,17 @@ def _join(below, n_below, here, n_here, r, rects, links, edges, count, n_edges):
             k += 1
         links[count, DOWN_COUNT] = n_edges - links[count, DOWN_FIRST]
         count += 1
-        while i < n_below and below[i, 1] <= hi:
+        while i < n_below and runs[below, i, 1] <= hi:
             i += 1
     while i < n_below:
-        rects[below[i, 2], LAST_ROW] = r - 1
+        rects[runs[below, i, 2], LAST_ROW] = r - 1
         i += 1
     return count, n_edges
 
 
 @njit(cache=True, inline="always")
-def _rectangle_at(runs, n_runs, c):  # pragma: no cover - compiled
+def _rectangle_at(runs, slot, n_runs, c):  # pragma: no cover - compiled
     for i in range(n_runs):
-        if runs[i, 0] <= c <= runs[i, 1]:
-            return runs[i, 2]
+        if runs[slot, i, 0] <= c <= runs[slot, i, 1]:
+            return runs[slot, i, 2]
     return -1
