@@ -11,7 +11,9 @@ Example::
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -20,7 +22,9 @@ from mazegen.generator.build import build as build_files
 from mazegen.spec import Spec
 
 if TYPE_CHECKING:
-    from mazegen.runtime.experiment import ExperimentResult
+    from mazegen.runtime.executors import Executor
+    from mazegen.runtime.experiment import Experiment
+    from mazegen.runtime.launcher import ExperimentResult, Job
     from mazegen.runtime.progress import Reporter
 
 
@@ -51,22 +55,44 @@ def run(
     out_dir: str | os.PathLike[str] | None = None,
     force: bool = False,
     reporter: Reporter | None = None,
+    executor: str | Executor = "serial",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    checkpoint_every: int | None = None,
+    catalog: bool | str | os.PathLike[str] = True,
 ) -> ExperimentResult:
     """Run a spec (a :class:`Spec`, a ``.maze`` file or a build directory).
 
-    Settings given here override the spec's evolution block. With ``out_dir`` the
-    run directory is written (atomically); the result holds each run's final
-    population and best scenario documents either way.
+    Settings given here override the spec's evolution block. With ``out_dir`` the run
+    directory is written as runs finish (checkpoints included, so ``resume`` can continue
+    it) and recorded in the catalog; the result holds each run's final population and
+    best scenario documents either way.
+
+    Args:
+        spec: What to run.
+        seed: Seed of the experiment.
+        runs: Number of runs.
+        population: Population size.
+        generations: Generations after the random one.
+        out_dir: The run directory to write.
+        force: Replace an existing ``out_dir``.
+        reporter: Progress display.
+        executor: ``serial`` (this process, the default here), ``local`` (worker processes),
+            ``dask`` (with ``scheduler``), or an :class:`~mazegen.runtime.executors.Executor`.
+        workers: Local worker processes (default: the cores).
+        scheduler: The Dask scheduler's address, ``tcp://HOST:PORT``.
+        checkpoint_every: Checkpoint every this many generations (0: never; default: every 30 s).
+        catalog: The catalog file, ``True`` for ``catalog.sqlite`` beside ``out_dir``, ``False`` for none.
     """
     from mazegen.runtime.experiment import Experiment
+    from mazegen.runtime.launcher import Job
 
     def _run(build_dir: Path) -> ExperimentResult:
         experiment = Experiment.from_build_dir(build_dir).with_settings(
             seed=seed, runs=runs, population=population, generations=generations
         )
-        return experiment.run(
-            out_dir=None if out_dir is None else Path(out_dir), force=force, reporter=reporter
-        )
+        job = Job(experiment, None if out_dir is None else Path(out_dir), force=force)
+        return _launch([job], reporter, executor, workers, scheduler, checkpoint_every, catalog)[0]
 
     if not isinstance(spec, Spec) and Path(spec).is_dir():
         return _run(Path(spec))
@@ -74,3 +100,126 @@ def run(
     with tempfile.TemporaryDirectory(prefix="mazegen-build-") as temp:
         build_files(resolved, Path(temp))
         return _run(Path(temp))
+
+
+def resume(
+    run_dir: str | os.PathLike[str],
+    *,
+    reporter: Reporter | None = None,
+    executor: str | Executor = "serial",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    checkpoint_every: int | None = None,
+    catalog: bool | str | os.PathLike[str] = True,
+) -> ExperimentResult:
+    """Continue an interrupted run directory from its runs' checkpoints (arguments as in :func:`run`).
+
+    The finished directory is the same, byte for byte (``timing.csv`` aside), as if the
+    experiment had never stopped.
+
+    Raises:
+        MazeError: for a folder that is not a run directory, a finished one, or a run whose
+            checkpoints are all damaged.
+    """
+    from mazegen.runtime.launcher import Job
+
+    with tempfile.TemporaryDirectory(prefix="mazegen-resume-") as temp:
+        job = Job(_resumable(Path(run_dir), Path(temp) / "build"), Path(run_dir), resume=True)
+        return _launch([job], reporter, executor, workers, scheduler, checkpoint_every, catalog)[0]
+
+
+def sweep(
+    specs: Sequence[Spec | str | os.PathLike[str]],
+    settings: dict[str, Sequence[int | float]],
+    *,
+    out_dir: str | os.PathLike[str],
+    runs: int | None = None,
+    force: bool = False,
+    reporter: Reporter | None = None,
+    executor: str | Executor = "serial",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    checkpoint_every: int | None = None,
+    catalog: bool | str | os.PathLike[str] = True,
+) -> list[tuple[Path, ExperimentResult | None]]:
+    """Run every combination of ``settings`` for every spec, each into ``out_dir/<cell>``.
+
+    A cell directory already finished for the same experiment is skipped (its result is
+    ``None``); one interrupted is resumed. All cells are recorded in one catalog
+    (``out_dir/catalog.sqlite`` by default). Other arguments are as in :func:`run`.
+
+    Args:
+        specs: The specs (a fitness variant is a spec, or a swept ``fitness.TERM`` weight).
+        settings: Values per setting, e.g. ``{"population": [500, 1000], "seed": range(1, 4)}``.
+        out_dir: The sweep's folder.
+        runs: Runs per cell (overrides the specs).
+        force: Replace existing cell directories.
+
+    Raises:
+        MazeError: for an unknown setting, a value out of bounds, or a cell directory that
+            holds another experiment (without ``force``).
+    """
+    from mazegen.runtime.experiment import Experiment
+    from mazegen.runtime.launcher import Job
+    from mazegen.runtime.sweep import Axis, plan_cells
+
+    axes = [Axis.parse(f"{name}={','.join(map(str, values))}") for name, values in settings.items()]
+    resolved = [spec if isinstance(spec, Spec) else load_spec(spec) for spec in specs]
+    if runs is not None:
+        resolved = [spec.with_evolution(runs=runs) for spec in resolved]
+    cells = plan_cells(resolved, axes, Path(out_dir), force=force)
+    with tempfile.TemporaryDirectory(prefix="mazegen-sweep-") as temp:
+        jobs = []
+        for cell in cells:
+            build = Path(temp) / cell.run_dir.name
+            if cell.state == "resume":
+                jobs.append(
+                    Job(_resumable(cell.run_dir, build), cell.run_dir, resume=True, sweep=cell.settings)
+                )
+            elif cell.state == "new":
+                build_files(cell.spec, build)
+                experiment = Experiment.from_build_dir(build)
+                jobs.append(Job(experiment, cell.run_dir, force=force, sweep=cell.settings))
+        results = iter(_launch(jobs, reporter, executor, workers, scheduler, checkpoint_every, catalog,
+                               keep_populations=False))  # fmt: skip
+        return [(cell.run_dir, None if cell.state == "finished" else next(results)) for cell in cells]
+
+
+def _resumable(run_dir: Path, build: Path) -> Experiment:
+    """The experiment of an interrupted run directory, loaded from a copy of its build in ``build``.
+
+    Raises:
+        MazeError: for a folder that is not a run directory, or a finished one.
+    """
+    from mazegen.runtime.experiment import Experiment
+    from mazegen.runtime.results import RunDirectory
+
+    directory = RunDirectory(run_dir)
+    directory.check_unfinished()
+    # Loading fitness.py from the run directory would leave its bytecode cache there.
+    return Experiment.from_build_dir(shutil.copytree(directory.build, build))
+
+
+def _launch(
+    jobs: list[Job],
+    reporter: Reporter | None,
+    executor: str | Executor,
+    workers: int | None,
+    scheduler: str | None,
+    checkpoint_every: int | None,
+    catalog: bool | str | os.PathLike[str],
+    *,
+    keep_populations: bool = True,
+) -> list[ExperimentResult]:
+    from mazegen.runtime.launcher import run_jobs
+
+    return run_jobs(
+        jobs,
+        executor=executor,
+        workers=workers,
+        scheduler=scheduler,
+        catalog=catalog if isinstance(catalog, bool) else Path(catalog),
+        checkpoint_every=checkpoint_every,
+        reporter=reporter,
+        keep_populations=keep_populations,
+    )

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import click
 
 from mazegen.cli.errors import reports_errors
+from mazegen.cli.launching import launch_options, launch_settings, reports_interruption
 
 
 @click.command()
@@ -22,8 +24,9 @@ from mazegen.cli.errors import reports_errors
     help="Run directory (default runs/<scenario>-seed<seed>).",
 )
 @click.option("--force", is_flag=True, help="Replace an existing run directory.")
-@click.option("-q", "--quiet", is_flag=True, help="No progress bars.")
+@launch_options
 @reports_errors
+@reports_interruption
 def run(
     source: Path,
     seed: int | None,
@@ -33,8 +36,13 @@ def run(
     out: Path | None,
     force: bool,
     quiet: bool,
+    **options: Any,
 ) -> None:
-    """Run the experiment of a .maze SPEC or of a BUILD_DIR made by `mazegen build`."""
+    """Run the experiment of a .maze SPEC or of a BUILD_DIR made by `mazegen build`.
+
+    Runs spread over the local cores (or a Dask cluster); each checkpoints as it goes, so
+    `mazegen resume` continues a run directory that was killed or stopped with Ctrl-C.
+    """
     from mazegen import api
     from mazegen.runtime.experiment import default_run_dir, summary_lines
     from mazegen.runtime.problem import read_build_spec
@@ -53,6 +61,7 @@ def run(
             out_dir=target,
             force=force,
             reporter=reporter,
+            **launch_settings(options),
         )
     finally:
         reporter.close()

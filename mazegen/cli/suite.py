@@ -60,9 +60,13 @@ def suite(
         build(resolved, Path(temp))
         problem = Problem.from_build_dir(Path(temp))
         try:
-            reporter.start_run(1, 1, iterations)
+            reporter.add_run("suite", "archive", iterations)
             archive = fill_archive(
-                problem, seed=seed, iterations=iterations, batch=batch, on_iteration=reporter.generation
+                problem,
+                seed=seed,
+                iterations=iterations,
+                batch=batch,
+                on_iteration=lambda stats: reporter.generation("suite", stats),
             )
         finally:
             reporter.close()

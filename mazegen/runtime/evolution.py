@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from time import perf_counter
+from typing import Any
 
 import numpy as np
 
@@ -21,7 +22,11 @@ EVALUATION_CHUNK = 8192
 
 @dataclass(frozen=True)
 class GenerationStats:
-    """One row of ``stats.csv``. Best, mean and median cover valid individuals only."""
+    """Statistics of one generation. Best, mean and median cover valid individuals only.
+
+    ``seconds`` is the wall-clock time to breed and evaluate the generation; it goes to
+    ``timing.csv``, the other fields to ``stats.csv``.
+    """
 
     generation: int
     evaluations: int
@@ -32,6 +37,27 @@ class GenerationStats:
     unique: int
     cache_hits: int
     seconds: float
+
+
+@dataclass(frozen=True)
+class RunState:
+    """Where a run stands once generation ``generation`` is evaluated: what a checkpoint holds.
+
+    Attributes:
+        generation: The last generation evaluated (0 is the random population).
+        codons: That generation's structure codons.
+        genes: That generation's placement genes.
+        fitness: That generation's fitness.
+        rng_state: The run's bit-generator state, from which the next generation is bred.
+        stats: Statistics of generations 0 .. ``generation``.
+    """
+
+    generation: int
+    codons: np.ndarray
+    genes: np.ndarray
+    fitness: np.ndarray
+    rng_state: Mapping[str, Any]
+    stats: tuple[GenerationStats, ...]
 
 
 @dataclass(frozen=True)
@@ -124,48 +150,68 @@ def generation_stats(
     )
 
 
+def primed_cache(codons: np.ndarray, genes: np.ndarray, fitness: np.ndarray) -> EvaluationCache:
+    """The evaluation cache as it stands after evaluating a generation.
+
+    The cache holds only the last generation: its table depends on that generation's
+    genome hashes alone, so a resumed run rebuilt this way counts the same evaluations
+    and cache hits as one that never stopped.
+    """
+    cache = EvaluationCache()
+    cache.remember(cache.lookup(genome_hashes(codons, genes)), fitness)
+    return cache
+
+
 def evolve(
     problem: Problem,
     settings: Evolution,
     rng: np.random.Generator,
     *,
-    on_generation: Callable[[GenerationStats], None] | None = None,
+    resume: RunState | None = None,
+    on_generation: Callable[[RunState], None] | None = None,
 ) -> RunResult:
-    """Run one evolution from a random population.
+    """Run one evolution from a random population, or on from a saved state.
 
     Args:
         problem: The experiment to evaluate genomes with.
         settings: Population size, generations, operators and rates.
-        rng: The run's only source of randomness.
-        on_generation: Called with each generation's statistics (progress reporting).
+        rng: The run's only source of randomness; a resumed run restores its state.
+        resume: Where an earlier, interrupted evolution stood (from a checkpoint).
+        on_generation: Called with the state after each generation is evaluated, before
+            the next is bred (progress, checkpoints). Its arrays are valid during the call
+            only; an exception it raises stops the run.
     """
     with threads_for(settings.population):
-        return _evolve(problem, settings, rng, on_generation)
+        return _evolve(problem, settings, rng, resume, on_generation or (lambda state: None))
 
 
 def _evolve(
     problem: Problem,
     settings: Evolution,
     rng: np.random.Generator,
-    on_generation: Callable[[GenerationStats], None] | None,
+    resume: RunState | None,
+    on_generation: Callable[[RunState], None],
 ) -> RunResult:
-    codons = ops.random_codons(rng, settings.population, settings.genome, settings.codon_max)
-    genes = ops.random_genes(rng, settings.population, problem.slots)
-    cache = EvaluationCache()
     workspace = Workspace()
-    stats: list[GenerationStats] = []
-    spare = (np.empty_like(codons), np.empty_like(genes))  # the next generation is bred into these
-    for generation in range(settings.generations + 1):
-        started = perf_counter()
+    started = perf_counter()
+    if resume is None:
+        codons = ops.random_codons(rng, settings.population, settings.genome, settings.codon_max)
+        genes = ops.random_genes(rng, settings.population, problem.slots)
+        cache = EvaluationCache()
         fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache, workspace)
-        last = generation == settings.generations
-        if not last:
-            breed(rng, codons, genes, fitness, settings, spare)
-        row = generation_stats(generation, fitness, evaluations, unique, perf_counter() - started)
-        stats.append(row)
-        if on_generation is not None:
-            on_generation(row)
-        if last:
-            break
+        stats = [generation_stats(0, fitness, evaluations, unique, perf_counter() - started)]
+        on_generation(RunState(0, codons, genes, fitness, rng.bit_generator.state, tuple(stats)))
+    else:
+        rng.bit_generator.state = resume.rng_state
+        codons, genes, fitness = resume.codons.copy(), resume.genes.copy(), resume.fitness.copy()
+        cache = primed_cache(codons, genes, fitness)
+        stats = list(resume.stats)
+    spare = (np.empty_like(codons), np.empty_like(genes))  # the next generation is bred into these
+    for generation in range(len(stats), settings.generations + 1):
+        started = perf_counter()
+        breed(rng, codons, genes, fitness, settings, spare)
         spare, (codons, genes) = (codons, genes), spare
+        fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache, workspace)
+        stats.append(generation_stats(generation, fitness, evaluations, unique, perf_counter() - started))
+        on_generation(RunState(generation, codons, genes, fitness, rng.bit_generator.state, tuple(stats)))
     return RunResult(codons, genes, fitness, tuple(stats))

@@ -1,7 +1,8 @@
-"""Experiments: several seeded runs of a built problem, written to a run directory.
+"""Experiments: a built problem with its evolution settings, and the command line of a generated build.
 
 A run is a pure function of (spec, seed, run index): run ``i`` draws from
-``numpy.random.default_rng(SeedSequence(seed).spawn(runs)[i])``.
+``numpy.random.default_rng(SeedSequence(seed).spawn(runs)[i])``, wherever it executes
+(see :mod:`mazegen.runtime.launcher`).
 """
 
 from __future__ import annotations
@@ -9,7 +10,7 @@ from __future__ import annotations
 import argparse
 import platform
 import sys
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
@@ -18,75 +19,15 @@ import numpy as np
 
 from mazegen import __version__
 from mazegen.errors import MazeError
-from mazegen.fileio import write_atomic
-from mazegen.runtime.evolution import RunResult, evolve
-from mazegen.runtime.mapping import phenotype
-from mazegen.runtime.operators import ranking
-from mazegen.runtime.problem import Evaluation, Problem
-from mazegen.runtime.progress import QuietReporter, Reporter, reporter_for
-from mazegen.runtime.render import scenario_svg
-from mazegen.runtime.results import json_text, npz_bytes, staged_directory, stats_csv
-from mazegen.runtime.scenario import dumps, scenario_document, scenario_key
+from mazegen.runtime.launcher import ExperimentResult, Job, RunsInterrupted, run_jobs
+from mazegen.runtime.problem import Problem
+from mazegen.runtime.progress import reporter_for
+from mazegen.runtime.results import json_text
+from mazegen.runtime.worker import BuildFiles
 from mazegen.spec import Spec
 
 OVERRIDE_MINIMUM = {"seed": 0, "runs": 1, "population": 1, "generations": 0}
 BUILD_FILES = ("spec.json", "grammar.bnf", "fitness.py", "experiment.py")
-
-
-@dataclass(frozen=True)
-class ExperimentResult:
-    """What an experiment produced: each run's result and best scenario documents."""
-
-    runs: tuple[RunResult, ...]
-    best: tuple[tuple[dict[str, Any], ...], ...]
-    run_dir: Path | None
-
-
-def best_documents(
-    problem: Problem, result: RunResult, *, count: int, origin: dict[str, Any]
-) -> tuple[dict[str, Any], ...]:
-    """The ``count`` best distinct valid scenarios of a final population, best first."""
-    ranked = ranking(result.fitness)
-    ranked = ranked[np.isfinite(result.fitness[ranked])]
-    documents: list[dict[str, Any]] = []
-    seen: set[bytes] = set()
-    # Candidates are evaluated a batch at a time; most batches hold enough distinct scenarios.
-    batch = max(4 * count, 64)
-    for start in range(0, ranked.size, batch):
-        chosen = ranked[start : start + batch]
-        codons, genes = result.codons[chosen], result.genes[chosen]
-        evaluation = problem.evaluate(codons, genes)
-        for row in range(chosen.size):
-            key = scenario_key(evaluation.population, row)
-            if key in seen:
-                continue
-            seen.add(key)
-            extra = {**origin, "rank": len(documents) + 1}
-            documents.append(row_document(problem, evaluation, row, codons[row], genes[row], extra))
-            if len(documents) == count:
-                return tuple(documents)
-    return tuple(documents)
-
-
-def row_document(
-    problem: Problem,
-    evaluation: Evaluation,
-    row: int,
-    codons: np.ndarray,
-    genes: np.ndarray,
-    origin: dict[str, Any],
-) -> dict[str, Any]:
-    """The scenario document of row ``row`` of an evaluation, its genome recorded in ``origin``."""
-    settings = problem.spec.evolution
-    return scenario_document(
-        problem.spec,
-        evaluation.population,
-        row,
-        phenotype=phenotype(problem.grammar, codons.tolist(), wraps=settings.wraps, consume=settings.consume),
-        fitness=float(evaluation.fitness[row]),
-        terms={name: float(values[row]) for name, values in evaluation.terms.items()},
-        origin={**origin, "codons": codons.tolist(), "placement": genes.tolist()},
-    )
 
 
 class Experiment:
@@ -115,27 +56,6 @@ class Experiment:
             spec = spec.with_evolution(elitism=spec.evolution.population - 1)
         return Experiment(replace(self.problem, spec=spec))
 
-    def run(
-        self, *, out_dir: Path | None = None, force: bool = False, reporter: Reporter | None = None
-    ) -> ExperimentResult:
-        """Run every run of the experiment; write ``out_dir`` if given (whole or not at all)."""
-        problem, settings = self.problem, self.problem.spec.evolution
-        reporter = reporter or QuietReporter()
-        children = np.random.SeedSequence(settings.seed).spawn(settings.runs)
-        results, bests = [], []
-        for number, child in enumerate(children, start=1):
-            reporter.start_run(number, settings.runs, settings.generations)
-            result = evolve(
-                problem, settings, np.random.default_rng(child), on_generation=reporter.generation
-            )
-            results.append(result)
-            origin = {"seed": settings.seed, "run": number, "generation": settings.generations}
-            bests.append(best_documents(problem, result, count=settings.best, origin=origin))
-        outcome = ExperimentResult(tuple(results), tuple(bests), out_dir)
-        if out_dir is not None:
-            self.write(outcome, out_dir, force=force)
-        return outcome
-
     def record(self) -> dict[str, Any]:
         """The resolved experiment: settings, seeds and software versions."""
         spec = self.problem.spec
@@ -156,31 +76,25 @@ class Experiment:
             },
         }
 
-    def write(self, outcome: ExperimentResult, out_dir: Path, *, force: bool) -> None:
-        """Write the run directory atomically."""
-        with staged_directory(out_dir, force=force) as stage:
-            for name in BUILD_FILES:
-                source = self.problem.build_dir / name
-                if name == "spec.json":
-                    write_atomic(stage / "experiment" / name, self.problem.spec.to_json())
-                elif source.is_file():
-                    write_atomic(stage / "experiment" / name, source.read_bytes())
-            write_atomic(stage / "experiment.json", json_text(self.record()))
-            rows = [
-                (number, row) for number, result in enumerate(outcome.runs, start=1) for row in result.stats
-            ]
-            write_atomic(stage / "stats.csv", stats_csv(rows))
-            for number, (result, documents) in enumerate(zip(outcome.runs, outcome.best), start=1):
-                run_dir = stage / f"run-{number:02d}"
-                for rank, document in enumerate(documents, start=1):
-                    write_atomic(run_dir / f"best-{rank:02d}.json", dumps(document))
-                    write_atomic(run_dir / f"best-{rank:02d}.svg", scenario_svg(document))
-                write_atomic(
-                    run_dir / "population.npz",
-                    npz_bytes(
-                        {"codons": result.codons, "placement": result.genes, "fitness": result.fitness}
-                    ),
-                )
+    def build_files(self) -> BuildFiles:
+        """The texts a worker rebuilds the problem from (``spec.json`` with the overrides)."""
+        build = self.problem.build_dir
+        return BuildFiles(
+            spec=self.problem.spec.to_json(),
+            grammar=(build / "grammar.bnf").read_text(encoding="utf-8"),
+            fitness=(build / "fitness.py").read_text(encoding="utf-8"),
+        )
+
+    def start_files(self) -> dict[str, str | bytes]:
+        """The files a run directory holds from its start: the build that runs, and ``experiment.json``."""
+        files: dict[str, str | bytes] = {"experiment.json": json_text(self.record())}
+        for name in BUILD_FILES:
+            source = self.problem.build_dir / name
+            if name == "spec.json":
+                files[f"experiment/{name}"] = self.problem.spec.to_json()
+            elif source.is_file():
+                files[f"experiment/{name}"] = source.read_bytes()
+        return files
 
 
 def default_run_dir(spec: Spec) -> Path:
@@ -204,7 +118,7 @@ def summary_lines(outcome: ExperimentResult) -> list[str]:
 
 
 def main(build_dir: Path, argv: list[str] | None = None) -> int:
-    """Command line of a generated ``experiment.py``."""
+    """Command line of a generated ``experiment.py``: runs on the local cores, like ``mazegen run``."""
     parser = argparse.ArgumentParser(description=f"Run the MazeGen experiment in {build_dir}.")
     parser.add_argument("--seed", type=int)
     parser.add_argument("--runs", type=int)
@@ -212,6 +126,8 @@ def main(build_dir: Path, argv: list[str] | None = None) -> int:
     parser.add_argument("--generations", type=int)
     parser.add_argument("-o", "--out", type=Path, help="run directory (default runs/<name>-seed<seed>)")
     parser.add_argument("--force", action="store_true", help="replace an existing run directory")
+    parser.add_argument("--workers", type=int, help="worker processes (default: the cores)")
+    parser.add_argument("--checkpoint-every", type=int, help="generations between checkpoints (0: none)")
     parser.add_argument("--quiet", action="store_true")
     args = parser.parse_args(argv)
     reporter = reporter_for(quiet=args.quiet)
@@ -220,10 +136,19 @@ def main(build_dir: Path, argv: list[str] | None = None) -> int:
             seed=args.seed, runs=args.runs, population=args.population, generations=args.generations
         )
         out = args.out or default_run_dir(experiment.problem.spec)
-        outcome = experiment.run(out_dir=out, force=args.force, reporter=reporter)
+        [outcome] = run_jobs(
+            [Job(experiment, out, force=args.force)],
+            executor="local",
+            workers=args.workers,
+            checkpoint_every=args.checkpoint_every,
+            reporter=reporter,
+        )
     except MazeError as error:
         print(error, file=sys.stderr)
         return 1
+    except RunsInterrupted:
+        print(f"interrupted; continue with: mazegen resume {out}", file=sys.stderr)
+        return 130
     finally:
         reporter.close()
     for line in summary_lines(outcome):

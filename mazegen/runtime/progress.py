@@ -1,7 +1,15 @@
-"""Progress reporting of runs: a Rich bar per run, or nothing."""
+"""Progress reporting of runs: a Rich bar per run and one over all of them, or nothing.
+
+Evaluations per second are measured where the work is done: a run's bar divides its
+evaluations by the seconds its generations took on its worker; the overall bar divides
+every run's evaluations by the wall-clock time since the first bar appeared.
+"""
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Hashable
+from time import monotonic
 from typing import Protocol
 
 from rich.console import Console
@@ -9,12 +17,22 @@ from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextC
 
 from mazegen.runtime.evolution import GenerationStats
 
+VISIBLE_RUNS = 16
+"""A run's bar shows from its first generation; with more runs than this, it hides again when
+the run ends (sweeps launch hundreds)."""
+
 
 class Reporter(Protocol):
-    """What an experiment tells about its progress."""
+    """What a launch tells about its progress.
 
-    def start_run(self, run: int, runs: int, generations: int) -> None: ...
-    def generation(self, stats: GenerationStats) -> None: ...
+    A run is identified by any hashable ``key``; ``done`` generations of a resumed run
+    are already complete when its bar appears.
+    """
+
+    def add_run(self, key: Hashable, label: str, generations: int, *, done: int = 0) -> None: ...
+    def generation(self, key: Hashable, stats: GenerationStats) -> None: ...
+    def finish_run(self, key: Hashable) -> None: ...
+    def note(self, message: str) -> None: ...
     def close(self) -> None: ...
 
 
@@ -24,20 +42,32 @@ def reporter_for(*, quiet: bool) -> Reporter:
 
 
 class QuietReporter:
-    """Reports nothing (scripts, tests)."""
+    """Shows no progress (scripts, tests); notes still go to standard error."""
 
-    def start_run(self, run: int, runs: int, generations: int) -> None:
+    def add_run(self, key: Hashable, label: str, generations: int, *, done: int = 0) -> None:
         """Ignore."""
 
-    def generation(self, stats: GenerationStats) -> None:
+    def generation(self, key: Hashable, stats: GenerationStats) -> None:
         """Ignore."""
+
+    def finish_run(self, key: Hashable) -> None:
+        """Ignore."""
+
+    def note(self, message: str) -> None:
+        """Print ``message`` on standard error."""
+        print(message, file=sys.stderr)
 
     def close(self) -> None:
         """Ignore."""
 
 
+class _Run:
+    def __init__(self, task: TaskID) -> None:
+        self.task, self.evaluations, self.seconds, self.finished = task, 0, 0.0, False
+
+
 class RichReporter:
-    """One progress bar per run on standard error, with the best fitness so far."""
+    """A bar per run (generations, best fitness, evaluations/s) under an overall bar, on standard error."""
 
     def __init__(self, console: Console | None = None) -> None:
         self._progress = Progress(
@@ -45,25 +75,65 @@ class RichReporter:
             BarColumn(),
             MofNCompleteColumn(),
             TextColumn("best {task.fields[best]}"),
+            TextColumn("{task.fields[rate]} evaluations/s"),
             TimeElapsedColumn(),
             console=console or Console(stderr=True),
             transient=False,
         )
-        self._task: TaskID | None = None
+        self._runs: dict[Hashable, _Run] = {}
+        self._overall: TaskID | None = None
+        self._started = 0.0
+        self._evaluations = 0
 
-    def start_run(self, run: int, runs: int, generations: int) -> None:
-        """Open the bar of run ``run`` (1-based)."""
-        if self._task is None:
+    def add_run(self, key: Hashable, label: str, generations: int, *, done: int = 0) -> None:
+        """Open the bar of a run (shown from its first generation)."""
+        if self._overall is None:
             self._progress.start()
-        self._task = self._progress.add_task(f"run {run}/{runs}", total=generations + 1, best="-")
+            self._started = monotonic()
+            self._overall = self._progress.add_task("all runs", total=0, best="-", rate="-")
+        self._progress.update(self._overall, total=(self._total() or 0) + generations + 1, advance=done)
+        task = self._progress.add_task(
+            label, total=generations + 1, completed=done, best="-", rate="-", visible=False
+        )
+        self._runs[key] = _Run(task)
 
-    def generation(self, stats: GenerationStats) -> None:
-        """Advance by one generation."""
+    def _total(self) -> float | None:
+        assert self._overall is not None
+        return self._progress.tasks[self._overall].total
+
+    def _few(self) -> bool:
+        return len(self._runs) <= VISIBLE_RUNS
+
+    def generation(self, key: Hashable, stats: GenerationStats) -> None:
+        """Advance a run's bar and the overall bar by one generation."""
+        run = self._runs.get(key)
+        if run is None or run.finished or self._overall is None:
+            return  # progress that arrives after its run's outcome
+        run.evaluations += stats.evaluations
+        run.seconds += stats.seconds
+        self._evaluations += stats.evaluations
         best = "-" if stats.best != stats.best else f"{stats.best:g}"
-        if self._task is not None:
-            self._progress.update(self._task, advance=1, best=best)
+        rate = f"{run.evaluations / run.seconds:,.0f}" if run.seconds > 0 else "-"
+        self._progress.update(run.task, advance=1, best=best, rate=rate, visible=True)
+        elapsed = monotonic() - self._started
+        overall = f"{self._evaluations / elapsed:,.0f}" if elapsed > 0 else "-"
+        self._progress.update(self._overall, advance=1, rate=overall)
+
+    def finish_run(self, key: Hashable) -> None:
+        """Fill a run's bar (and the overall one by what it skipped); hide it when there are many."""
+        run = self._runs[key]
+        run.finished = True
+        task = self._progress.tasks[run.task]
+        missing = (task.total or 0) - task.completed
+        self._progress.update(run.task, completed=task.total, visible=self._few())
+        if self._overall is not None:
+            self._progress.update(self._overall, advance=missing)
+
+    def note(self, message: str) -> None:
+        """Print ``message`` above the bars."""
+        self._progress.console.print(message, markup=False, highlight=False)
 
     def close(self) -> None:
         """Stop the live display."""
-        if self._task is not None:
+        if self._overall is not None:
             self._progress.stop()

@@ -27,8 +27,8 @@ import numpy as np
 
 from mazegen.fileio import write_atomic
 from mazegen.runtime import operators as ops
+from mazegen.runtime.documents import row_document
 from mazegen.runtime.evolution import GenerationStats, generation_stats
-from mazegen.runtime.experiment import row_document
 from mazegen.runtime.population import PLACEMENT_GENES
 from mazegen.runtime.problem import Evaluation, Problem
 from mazegen.runtime.render import scenario_svg

@@ -77,6 +77,8 @@ def run_small(out: Path, *extra: str):
         "3",
         "--runs",
         "2",
+        "--executor",
+        "serial",
         "-q",
         "-o",
         str(out),
@@ -86,15 +88,18 @@ def run_small(out: Path, *extra: str):
 
 def test_run_writes_a_complete_run_directory(tmp_path):
     out = tmp_path / "run"
-    result = run_small(out)
+    result = run_small(out, "--executor", "local")  # the default: runs on worker processes
     assert result.exit_code == 0, result.output
     assert "run 1: best fitness" in result.output
     assert (out / "experiment" / "grammar.bnf").is_file() and (out / "experiment" / "fitness.py").is_file()
     record = json.loads((out / "experiment.json").read_text())
     assert record["evolution"]["population"] == 60 and record["evolution"]["runs"] == 2
     stats = (out / "stats.csv").read_text().splitlines()
-    assert stats[0] == "run,generation,evaluations,best,mean,median,invalid,unique,cache_hits,seconds"
+    assert stats[0] == "run,generation,evaluations,best,mean,median,invalid,unique,cache_hits"
     assert len(stats) == 1 + 2 * 4
+    timing = (out / "timing.csv").read_text().splitlines()
+    assert timing[0] == "run,generation,seconds" and len(timing) == 1 + 2 * 4
+    assert not (out / "checkpoints").exists() and (tmp_path / "catalog.sqlite").is_file()
     for run in ("run-01", "run-02"):
         document = json.loads((out / run / "best-01.json").read_text())
         assert document["format"] == "mazegen-scenario"

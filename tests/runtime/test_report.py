@@ -133,17 +133,15 @@ def test_headless_chromium_shows_the_gallery(factory_run, tmp_path):
 def test_run_times_come_from_timing_csv_when_stats_have_none(factory_run, tmp_path):
     run = tmp_path / "run"
     shutil.copytree(factory_run, run)
-    rows = list(csv.DictReader((run / "stats.csv").open()))
-    expected = {n: sum(float(r["seconds"]) for r in rows if r["run"] == str(n)) for n in (1, 2)}
+    timings = list(csv.DictReader((run / "timing.csv").open()))
+    expected = {n: sum(float(r["seconds"]) for r in timings if r["run"] == str(n)) for n in (1, 2)}
     assert read_run(run).seconds == pytest.approx(expected)
-    untimed = [{key: value for key, value in row.items() if key != "seconds"} for row in rows]
-    with (run / "stats.csv").open("w", newline="") as out:
-        writer = csv.DictWriter(out, fieldnames=list(untimed[0]))
-        writer.writeheader()
-        writer.writerows(untimed)
+    (run / "timing.csv").unlink()
     assert read_run(run).seconds == {}
-    with (run / "timing.csv").open("w", newline="") as out:
-        csv.writer(out).writerows(
-            [("run", "generation", "seconds")] + [(r["run"], r["generation"], r["seconds"]) for r in rows]
-        )
+    # Run directories written before timing.csv kept the seconds in a last column of stats.csv.
+    rows = list(csv.DictReader((run / "stats.csv").open()))
+    with (run / "stats.csv").open("w", newline="") as out:
+        writer = csv.DictWriter(out, fieldnames=[*rows[0], "seconds"])
+        writer.writeheader()
+        writer.writerows({**row, "seconds": timing["seconds"]} for row, timing in zip(rows, timings))
     assert read_run(run).seconds == pytest.approx(expected)

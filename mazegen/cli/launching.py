@@ -1,0 +1,76 @@
+"""What the commands that launch runs share: executor, checkpoint and catalog options, and Ctrl-C."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import click
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+INTERRUPTED_STATUS = 130
+"""Exit status after Ctrl-C, as shells report a process stopped by SIGINT."""
+
+
+def launch_options(command: F) -> F:
+    """Add the options of where runs execute, when they checkpoint, their catalog, and ``-q``."""
+    options = [
+        click.option(
+            "--executor",
+            type=click.Choice(["local", "serial", "dask"]),
+            default="local",
+            show_default=True,
+            help="Where runs execute: local worker processes, this process, or a Dask cluster.",
+        ),
+        click.option(
+            "--workers", type=click.IntRange(min=1), help="Local worker processes (default: the cores)."
+        ),
+        click.option(
+            "--scheduler", metavar="tcp://HOST:PORT", help="The Dask scheduler (with --executor dask)."
+        ),
+        click.option(
+            "--checkpoint-every",
+            type=click.IntRange(min=0),
+            metavar="K",
+            help="Checkpoint every K generations (0: never; default: every 30 s and the last generation).",
+        ),
+        click.option(
+            "--catalog",
+            type=click.Path(path_type=Path),
+            help="The results catalog (default: catalog.sqlite beside the run directory).",
+        ),
+        click.option("-q", "--quiet", is_flag=True, help="No progress bars."),
+    ]
+    for option in reversed(options):
+        command = option(command)
+    return command
+
+
+def launch_settings(options: dict[str, Any]) -> dict[str, Any]:
+    """The keyword arguments of :func:`mazegen.api.run` that :func:`launch_options` collected."""
+    return {
+        "executor": options["executor"],
+        "workers": options["workers"],
+        "scheduler": options["scheduler"],
+        "checkpoint_every": options["checkpoint_every"],
+        "catalog": True if options["catalog"] is None else options["catalog"],
+    }
+
+
+def reports_interruption(command: F) -> F:
+    """Wrap a command so that Ctrl-C ends it with one line saying how to continue, and status 130."""
+    from mazegen.runtime.launcher import RunsInterrupted
+
+    @functools.wraps(command)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        try:
+            return command(*args, **kwargs)
+        except RunsInterrupted as stopped:
+            resume = "; ".join(f"mazegen resume {path}" for path in stopped.run_dirs)
+            click.echo(f"interrupted: runs saved checkpoints; continue with: {resume}", err=True)
+            raise SystemExit(INTERRUPTED_STATUS) from None
+
+    return wrapper  # type: ignore[return-value]

@@ -1,0 +1,271 @@
+"""Where runs execute: in this process, in local worker processes, or on a Dask cluster.
+
+Every executor takes :class:`~mazegen.runtime.worker.RunTask` objects and hands back
+their outcomes as they finish, and the progress of each generation on the way.
+Because a run is a pure function of its task, the results do not depend on the
+executor; only the time does.
+
+Local workers are processes, one numba thread each when they share the cores (a run
+is mostly serial between its kernels, so processes use the cores better than threads).
+They start from a fork server that has imported NumPy and numba once (else they are
+spawned): never by forking this process, whose OpenMP threads a fork would not copy.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+import queue
+import signal
+import threading
+from abc import ABC, abstractmethod
+from collections import deque
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import astuple, replace
+from types import TracebackType
+from typing import Any
+
+from mazegen.errors import MazeError
+from mazegen.runtime.evolution import GenerationStats
+from mazegen.runtime.worker import RunKey, RunOutcome, RunTask, run_task
+
+ProgressSink = Callable[[RunKey, GenerationStats], None]
+
+EXECUTORS = ("local", "serial", "dask")
+
+
+def available_cores() -> int:
+    """Cores this process may run on."""
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+
+
+def progress_message(key: RunKey, stats: GenerationStats) -> list[Any]:
+    """A generation's progress as a flat list (pickles and msgpacks alike)."""
+    return [*key, *astuple(stats)]
+
+
+def read_progress(message: list[Any]) -> tuple[RunKey, GenerationStats]:
+    """The inverse of :func:`progress_message`."""
+    return (message[0], message[1]), GenerationStats(*message[2:])
+
+
+class Executor(ABC):
+    """Runs tasks and reports their outcomes; a context manager that releases its workers."""
+
+    name: str
+    """How the catalog records it: ``serial``, ``local:N`` or ``dask:ADDRESS``."""
+
+    @abstractmethod
+    def submit(self, task: RunTask) -> None:
+        """Queue a run."""
+
+    @abstractmethod
+    def poll(self, timeout: float, on_progress: ProgressSink) -> list[RunOutcome]:
+        """Deliver progress and return the outcomes finished since the last call.
+
+        Raises:
+            Exception: whatever a run raised.
+        """
+
+    @property
+    @abstractmethod
+    def pending(self) -> int:
+        """Runs submitted whose outcome has not been returned."""
+
+    @abstractmethod
+    def request_stop(self) -> None:
+        """Ask every run to stop after its current generation (and save a checkpoint)."""
+
+    @abstractmethod
+    def close(self) -> None:
+        """Release the workers."""
+
+    def __enter__(self) -> Executor:
+        return self
+
+    def __exit__(
+        self, kind: type[BaseException] | None, error: BaseException | None, trace: TracebackType | None
+    ) -> None:
+        self.close()
+
+
+class _InlineChannel:
+    def __init__(self, on_progress: ProgressSink, stop: threading.Event) -> None:
+        self._on_progress, self._stop = on_progress, stop
+
+    def progress(self, key: RunKey, stats: GenerationStats) -> None:
+        self._on_progress(key, stats)
+
+    def stop_requested(self) -> bool:
+        return self._stop.is_set()
+
+
+class SerialExecutor(Executor):
+    """Runs one run after another in this process, on every numba thread."""
+
+    name = "serial"
+
+    def __init__(self) -> None:
+        self._tasks: deque[RunTask] = deque()
+        self._stop = threading.Event()
+
+    def submit(self, task: RunTask) -> None:
+        """Queue a run."""
+        self._tasks.append(task)
+
+    def poll(self, timeout: float, on_progress: ProgressSink) -> list[RunOutcome]:
+        """Run the next queued run to its end (``timeout`` does not apply)."""
+        return (
+            [run_task(self._tasks.popleft(), _InlineChannel(on_progress, self._stop))] if self._tasks else []
+        )
+
+    @property
+    def pending(self) -> int:
+        """Runs not yet run."""
+        return len(self._tasks)
+
+    def request_stop(self) -> None:
+        """Stop the current run at its next generation; later ones do not start."""
+        self._stop.set()
+
+    def close(self) -> None:
+        """Nothing to release."""
+
+
+class PooledExecutor(Executor):
+    """An executor whose runs finish elsewhere as futures, with progress arriving on a queue."""
+
+    def __init__(self, messages: Any) -> None:
+        self._messages = messages
+        self._futures: dict[Any, RunTask] = {}
+
+    @property
+    def pending(self) -> int:
+        """Runs submitted and not yet returned."""
+        return len(self._futures)
+
+    def poll(self, timeout: float, on_progress: ProgressSink) -> list[RunOutcome]:
+        """Wait up to ``timeout`` s for progress, then collect the finished runs."""
+        try:
+            message = self._messages.get(timeout=timeout)
+            while True:
+                on_progress(*read_progress(message))
+                message = self._messages.get_nowait()
+        except queue.Empty:
+            pass
+        done = [future for future in self._futures if future.done()]
+        # Finished runs are returned before a failed one is raised, so none of them is lost.
+        succeeded = [future for future in done if future.exception() is None] or done[:1]
+        for future in succeeded:
+            del self._futures[future]
+        return [future.result() for future in succeeded]
+
+
+class _PoolChannel:
+    def __init__(self, messages: Any, stop: Any) -> None:
+        self._messages, self._stop = messages, stop
+        self._parent = os.getppid()
+
+    def progress(self, key: RunKey, stats: GenerationStats) -> None:
+        self._messages.put(progress_message(key, stats))
+
+    def stop_requested(self) -> bool:
+        if os.getppid() != self._parent:
+            # The launcher was killed outright: nobody is left to take this run, and a resumed
+            # launch may already own its checkpoints. Leave at once, writing nothing.
+            os._exit(1)
+        return self._stop.is_set()
+
+
+_channel: _PoolChannel | None = None
+
+
+def _start_worker(messages: Any, stop: Any) -> None:
+    global _channel
+    # Ctrl-C reaches the whole process group; the launcher decides, and tells the runs through ``stop``.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    os.environ.setdefault("OMP_WAIT_POLICY", "passive")
+    _channel = _PoolChannel(messages, stop)
+
+
+def _run_in_pool(task: RunTask) -> RunOutcome:
+    assert _channel is not None, "worker started without _start_worker"
+    return run_task(task, _channel)
+
+
+def _process_context() -> multiprocessing.context.BaseContext:
+    if "forkserver" in multiprocessing.get_all_start_methods():
+        context = multiprocessing.get_context("forkserver")
+        # The server imports the slow libraries once. Not this package: before Python 3.12 the server
+        # imports from its own working folder, which may hold another copy than the launcher's.
+        context.set_forkserver_preload(["numpy", "numba"])
+        return context
+    return multiprocessing.get_context("spawn")
+
+
+class LocalExecutor(PooledExecutor):
+    """Runs on a pool of local worker processes.
+
+    Args:
+        workers: Worker processes.
+        threads_per_worker: numba threads of each (default: the cores shared out, at least 1).
+    """
+
+    def __init__(self, *, workers: int, threads_per_worker: int | None = None) -> None:
+        if workers < 1:
+            raise MazeError(f"--workers must be at least 1, got {workers}")
+        context = _process_context()
+        super().__init__(context.Queue())
+        self._stop = context.Event()
+        self._pool = ProcessPoolExecutor(
+            max_workers=workers,
+            mp_context=context,
+            initializer=_start_worker,
+            initargs=(self._messages, self._stop),
+        )
+        self._threads = threads_per_worker or max(1, available_cores() // workers)
+        self.name = f"local:{workers}"
+
+    def submit(self, task: RunTask) -> None:
+        """Queue a run on the pool."""
+        self._futures[self._pool.submit(_run_in_pool, replace(task, threads=self._threads))] = task
+
+    def request_stop(self) -> None:
+        """Tell every worker to stop after its current generation."""
+        self._stop.set()
+
+    def close(self) -> None:
+        """Stop the workers (after their current runs) and the progress queue."""
+        self._pool.shutdown(wait=True, cancel_futures=True)
+        self._messages.close()
+        self._messages.join_thread()
+
+
+def executor_for(
+    kind: str, *, runs: int, workers: int | None = None, scheduler: str | None = None
+) -> Executor:
+    """The executor a command line or API call asks for.
+
+    Args:
+        kind: ``local`` (worker processes), ``serial`` (this process) or ``dask``.
+        runs: Runs to execute: local uses no more workers than runs, and none for one run.
+        workers: Local worker processes (default: the cores).
+        scheduler: The Dask scheduler's address (``tcp://HOST:PORT``), for ``dask`` only.
+
+    Raises:
+        MazeError: for an unknown executor, a scheduler without ``dask`` or the reverse,
+            or a Dask cluster that cannot be reached.
+    """
+    if kind not in EXECUTORS:
+        raise MazeError(f"unknown executor '{kind}' (choose {', '.join(EXECUTORS)})")
+    if (kind == "dask") != (scheduler is not None):
+        raise MazeError("--scheduler goes with --executor dask, and --executor dask needs --scheduler")
+    if kind == "dask":
+        from mazegen.runtime.dask_executor import DaskExecutor  # the optional 'dask' extra
+
+        return DaskExecutor(scheduler=str(scheduler))
+    count = min(workers or available_cores(), runs)
+    if workers is not None and workers < 1:
+        raise MazeError(f"--workers must be at least 1, got {workers}")
+    return SerialExecutor() if kind == "serial" or count <= 1 else LocalExecutor(workers=count)

@@ -1,0 +1,35 @@
+"""Progress: a bar per run and one over all runs, with evaluations per second."""
+
+from __future__ import annotations
+
+import io
+
+from rich.console import Console
+
+from mazegen.runtime.evolution import GenerationStats
+from mazegen.runtime.progress import RichReporter
+
+
+def test_a_bar_per_run_under_an_overall_bar_with_rates():
+    screen = io.StringIO()
+    reporter = RichReporter(Console(file=screen, width=120, force_terminal=False))
+    reporter.add_run((0, 1), "run 1/2", 2)
+    reporter.add_run((0, 2), "run 2/2", 2, done=2)  # resumed after its second generation
+    for generation in range(3):
+        reporter.generation(
+            (0, 1), GenerationStats(generation, 500, 4.0 + generation, 2.0, 2.0, 0, 500, 0, 0.25)
+        )
+    reporter.finish_run((0, 1))
+    reporter.generation((0, 1), GenerationStats(3, 500, 9.0, 2.0, 2.0, 0, 500, 0, 0.25))  # late: ignored
+    reporter.generation((0, 2), GenerationStats(2, 100, 3.0, 2.0, 2.0, 0, 100, 0, 0.5))
+    reporter.finish_run((0, 2))
+    reporter.note("a note")
+    reporter.close()
+    lines = screen.getvalue().splitlines()
+    overall = next(line for line in lines if line.startswith("all runs"))
+    first = next(line for line in lines if line.startswith("run 1/2"))
+    second = next(line for line in lines if line.startswith("run 2/2"))
+    assert "6/6" in overall and "evaluations/s" in overall
+    assert "3/3" in first and "best 6 " in first and "2,000 evaluations/s" in first  # 1,500 in 0.75 s
+    assert "3/3" in second and "200 evaluations/s" in second
+    assert "a note" in lines
