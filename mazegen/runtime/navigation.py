@@ -46,6 +46,11 @@ if TYPE_CHECKING:
     from mazegen.runtime.population import Population
 
 
+# Columns of the search's per-rectangle arrays.
+COST, X, Y = 0, 1, 2
+PREVIOUS, SETTLED = 0, 1
+
+
 @dataclass(frozen=True)
 class Navigation:
     """Solvability and path of every individual of a population.
@@ -193,15 +198,12 @@ def _straight_free(free, cols, cell, points):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
-    """Scratch arrays of one search over at most ``capacity`` runs."""
+    """Scratch arrays of one search over at most ``capacity`` rectangles."""
     return (
-        np.zeros(capacity),  # cost
-        np.zeros(capacity, np.int64),  # previous run
-        np.zeros((capacity, 2)),  # entry point
-        np.zeros(capacity, np.bool_),  # settled
+        np.zeros((capacity, 3)),  # per rectangle: cost so far, entry point x and y
+        np.zeros((capacity, 2), np.int64),  # per rectangle: previous rectangle, settled
         np.full(buckets, -1, np.int64),  # queue: first entry of each bucket (-1: empty)
-        np.zeros(4 * capacity + 8, np.int64),  # queue: next entry in the same bucket
-        np.zeros(4 * capacity + 8, np.int64),  # queue: the run of each entry
+        np.zeros((4 * capacity + 8, 2), np.int64),  # queue entries: next entry in the same bucket, rectangle
         np.zeros(capacity + 2, np.int64),  # corridor
     )
 
@@ -213,40 +215,38 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     The search works in cell units (a rectangle's edges are then its row and column
     numbers), which keeps multiplications off its chain of dependent steps.
     """
-    rects, links, edges = rectangles[0], rectangles[1], rectangles[2]
+    rects, edges = rectangles[0], rectangles[1]
     cell = grid[0]
     sx, sy, gx, gy = grid[5][0] / cell, grid[5][1] / cell, grid[5][2] / cell, grid[5][3] / cell
-    cost, previous, entry, settled, heads, next_entry, members, corridor = search
+    state, links, heads, entries, corridor = search
     for q in range(count):
-        cost[q] = np.inf
-        settled[q] = False
-    cost[start] = 0.0
-    previous[start] = -1
-    entry[start, 0], entry[start, 1] = sx, sy
+        state[q, COST] = np.inf
+        links[q, SETTLED] = 0
+    state[start, COST], state[start, X], state[start, Y] = 0.0, sx, sy
+    links[start, PREVIOUS] = -1
     # A bucket queue ordered by (cost so far + straight line still to go) in cells:
     # constant-time pushes and pops; within a bucket the order is last in, first out.
     last = heads.shape[0] - 1
     lowest = min(int(math.sqrt((gx - sx) * (gx - sx) + (gy - sy) * (gy - sy))), last)
     first_used = highest = lowest
-    used = _enqueue(heads, next_entry, members, 0, lowest, start)
+    used = _enqueue(heads, entries, 0, lowest, start)
     while True:
         while lowest <= highest and heads[lowest] < 0:
             lowest += 1
         if lowest > highest:
             break
         taken = heads[lowest]
-        heads[lowest] = next_entry[taken]
-        here = members[taken]
-        if settled[here]:
+        heads[lowest] = entries[taken, 0]
+        here = entries[taken, 1]
+        if links[here, SETTLED]:
             continue
-        settled[here] = True
+        links[here, SETTLED] = 1
         if here == goal:
             break
-        ex, ey = entry[here, 0], entry[here, 1]
-        spent = cost[here]
+        spent, ex, ey = state[here, COST], state[here, X], state[here, Y]
         for side in range(2):  # the rectangles above, then those below
-            first = links[here, UP_FIRST] if side == 0 else links[here, DOWN_FIRST]
-            n = links[here, UP_COUNT] if side == 0 else links[here, DOWN_COUNT]
+            first = rects[here, UP_FIRST] if side == 0 else rects[here, DOWN_FIRST]
+            n = rects[here, UP_COUNT] if side == 0 else rects[here, DOWN_COUNT]
             y = float(rects[here, LAST_ROW] + 1 if side == 0 else rects[here, FIRST_ROW])
             # Cross the shared edge where the line from the entry point towards the goal
             # does (straight on when the goal is not ahead), clamped to the edge.
@@ -259,29 +259,28 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
             hi_here = rects[here, LAST_COL] + 1
             for e in range(first, first + n):
                 q = edges[e, ABOVE] if side == 0 else edges[e, BELOW]
-                if settled[q]:
+                if links[q, SETTLED]:
                     continue
                 x = min(max(aim, max(lo_here, rects[q, FIRST_COL])), min(hi_here, rects[q, LAST_COL] + 1))
                 # sqrt, not hypot: hypot's overflow care costs more than it saves here
                 reached = spent + math.sqrt((x - ex) * (x - ex) + rise)
-                if reached < cost[q]:
-                    cost[q] = reached
-                    previous[q] = here
-                    entry[q, 0], entry[q, 1] = x, y
+                if reached < state[q, COST]:
+                    state[q, COST], state[q, X], state[q, Y] = reached, x, y
+                    links[q, PREVIOUS] = here
                     bucket = min(int(reached + math.sqrt((gx - x) * (gx - x) + rise_to_goal)), last)
-                    used = _enqueue(heads, next_entry, members, used, bucket, q)
+                    used = _enqueue(heads, entries, used, bucket, q)
                     lowest = min(lowest, bucket)
                     first_used = min(first_used, bucket)
                     highest = max(highest, bucket)
     heads[first_used : highest + 1] = -1  # the queue empty again for the next search
-    if not settled[goal]:
+    if not links[goal, SETTLED]:
         return False, 0.0, 0
     hops = 0
     q = goal
     while q >= 0:
         corridor[hops] = q
         hops += 1
-        q = previous[q]
+        q = links[q, PREVIOUS]
     total, turns = _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners)
     for t in range(turns):
         corners[t, 0] *= cell
@@ -290,9 +289,9 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
 
 
 @njit(cache=True, inline="always")
-def _enqueue(heads, next_entry, members, used, bucket, node):  # pragma: no cover - compiled
-    members[used] = node
-    next_entry[used] = heads[bucket]
+def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
+    entries[used, 0] = heads[bucket]
+    entries[used, 1] = node
     heads[bucket] = used
     return used + 1
 

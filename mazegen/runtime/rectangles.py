@@ -19,9 +19,9 @@ from numba import njit
 
 from mazegen.runtime.bits import HIGH, ONE, lowest_bit
 
-# Columns of the per-rectangle arrays.
+# Columns of a rectangle's row: its extent, then where its edges up and down are.
 FIRST_ROW, LAST_ROW, FIRST_COL, LAST_COL = 0, 1, 2, 3
-UP_FIRST, UP_COUNT, DOWN_FIRST, DOWN_COUNT = 0, 1, 2, 3
+UP_FIRST, UP_COUNT, DOWN_FIRST, DOWN_COUNT = 4, 5, 6, 7
 BELOW, ABOVE = 0, 1
 
 
@@ -30,9 +30,9 @@ def rectangle_arrays(rows, cols):  # pragma: no cover - compiled
     """Scratch of one decomposition of a ``rows`` x ``cols`` grid."""
     row_runs = cols // 2 + 1  # free runs one row can hold
     capacity = rows * row_runs
+    # One row per rectangle and few arrays: the search that reads them keeps more in registers.
     return (
-        np.zeros((capacity, 4), np.int64),  # rectangles: first row, last row, first column, last column
-        np.zeros((capacity, 4), np.int64),  # their edges: first up, count up, first down, count down
+        np.zeros((capacity, 8), np.int64),  # rectangles: extent, then first and count of edges up and down
         np.zeros((rows * 2 * row_runs + 1, 2), np.int64),  # edges: (rectangle below, rectangle above)
         np.zeros((2, row_runs, 3), np.int64),  # runs of two rows: first column, last column, rectangle
     )
@@ -51,7 +51,7 @@ def decompose(free, cols, cells, arrays):  # pragma: no cover - compiled
     Returns:
         (rectangles, start rectangle, goal rectangle); -1 for an end on a blocked cell.
     """
-    rects, links, edges, row_runs = arrays
+    rects, edges, row_runs = arrays
     rows, words = free.shape
     count = 0
     n_edges = 0
@@ -67,7 +67,7 @@ def decompose(free, cols, cells, arrays):  # pragma: no cover - compiled
         if not same:
             now = 1 - last
             n_now = _row_runs(free, r, cols, row_runs, now)
-            count, n_edges = _join(row_runs, last, n_last, now, n_now, r, rects, links, edges, count, n_edges)
+            count, n_edges = _join(row_runs, last, n_last, now, n_now, r, rects, edges, count, n_edges)
             last, n_last = now, n_now
         if r == cells[0]:
             start = _rectangle_at(row_runs, last, n_last, cells[1])
@@ -107,7 +107,7 @@ def _row_runs(free, r, cols, out, slot):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _join(runs, below, n_below, here, n_here, r, rects, links, edges, count, n_edges):  # pragma: no cover
+def _join(runs, below, n_below, here, n_here, r, rects, edges, count, n_edges):  # pragma: no cover
     """Give each run of row ``r`` (``runs[here]``) its rectangle and record the edges to the
     rectangles of the row below (``runs[below]``).
 
@@ -130,19 +130,19 @@ def _join(runs, below, n_below, here, n_here, r, rects, links, edges, count, n_e
             continue
         runs[here, j, 2] = count
         rects[count, FIRST_ROW], rects[count, FIRST_COL], rects[count, LAST_COL] = r, lo, hi
-        links[count, UP_COUNT] = 0
-        links[count, DOWN_FIRST] = n_edges
+        rects[count, UP_COUNT] = 0
+        rects[count, DOWN_FIRST] = n_edges
         k = i
         while k < n_below and runs[below, k, 0] <= hi:
             a = runs[below, k, 2]
             rects[a, LAST_ROW] = r - 1
             edges[n_edges, BELOW], edges[n_edges, ABOVE] = a, count
-            if links[a, UP_COUNT] == 0:
-                links[a, UP_FIRST] = n_edges
-            links[a, UP_COUNT] += 1
+            if rects[a, UP_COUNT] == 0:
+                rects[a, UP_FIRST] = n_edges
+            rects[a, UP_COUNT] += 1
             n_edges += 1
             k += 1
-        links[count, DOWN_COUNT] = n_edges - links[count, DOWN_FIRST]
+        rects[count, DOWN_COUNT] = n_edges - rects[count, DOWN_FIRST]
         count += 1
         while i < n_below and runs[below, i, 1] <= hi:
             i += 1
