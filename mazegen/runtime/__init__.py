@@ -29,4 +29,4 @@ def _kernel_cache_dir(sources: Path = Path(__file__).parent) -> Path:
 
 
 if not os.environ.get("NUMBA_CACHE_DIR"):  # a folder the user chose wins
-    numba.config.CACHE_DIR = str(_kernel_cache_dir())
+    numba.config.CACHE_DIR = str(_kernel_cache_dir())  # type: ignore[attr-defined]  # set at import by numba
