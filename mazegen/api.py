@@ -24,7 +24,7 @@ from mazegen.spec import Spec
 if TYPE_CHECKING:
     from mazegen.runtime.executors import Executor
     from mazegen.runtime.experiment import Experiment
-    from mazegen.runtime.launcher import ExperimentResult, Job
+    from mazegen.runtime.launcher import ExperimentResult
     from mazegen.runtime.progress import Reporter
 
 
@@ -60,6 +60,7 @@ def run(
     scheduler: str | None = None,
     checkpoint_every: int | None = None,
     catalog: bool | str | os.PathLike[str] = True,
+    keep_populations: bool = True,
 ) -> ExperimentResult:
     """Run a spec (a :class:`Spec`, a ``.maze`` file or a build directory).
 
@@ -83,16 +84,27 @@ def run(
         scheduler: The Dask scheduler's address, ``tcp://HOST:PORT``.
         checkpoint_every: Checkpoint every this many generations (0: never; default: every 30 s).
         catalog: The catalog file, ``True`` for ``catalog.sqlite`` beside ``out_dir``, ``False`` for none.
+        keep_populations: Return each run's final population; without, the result holds each
+            run's statistics and best documents (the populations are in ``out_dir``).
     """
     from mazegen.runtime.experiment import Experiment
-    from mazegen.runtime.launcher import Job
+    from mazegen.runtime.launcher import Job, run_jobs
 
     def _run(build_dir: Path) -> ExperimentResult:
         experiment = Experiment.from_build_dir(build_dir).with_settings(
             seed=seed, runs=runs, population=population, generations=generations
         )
         job = Job(experiment, None if out_dir is None else Path(out_dir), force=force)
-        return _launch([job], reporter, executor, workers, scheduler, checkpoint_every, catalog)[0]
+        return run_jobs(
+            [job],
+            executor=executor,
+            workers=workers,
+            scheduler=scheduler,
+            catalog=catalog,
+            checkpoint_every=checkpoint_every,
+            reporter=reporter,
+            keep_populations=keep_populations or out_dir is None,
+        )[0]
 
     if not isinstance(spec, Spec) and Path(spec).is_dir():
         return _run(Path(spec))
@@ -111,6 +123,7 @@ def resume(
     scheduler: str | None = None,
     checkpoint_every: int | None = None,
     catalog: bool | str | os.PathLike[str] = True,
+    keep_populations: bool = True,
 ) -> ExperimentResult:
     """Continue an interrupted run directory from its runs' checkpoints (arguments as in :func:`run`).
 
@@ -121,11 +134,20 @@ def resume(
         MazeError: for a folder that is not a run directory, a finished one, or a run whose
             checkpoints are all damaged.
     """
-    from mazegen.runtime.launcher import Job
+    from mazegen.runtime.launcher import Job, run_jobs
 
     with tempfile.TemporaryDirectory(prefix="mazegen-resume-") as temp:
         job = Job(_resumable(Path(run_dir), Path(temp) / "build"), Path(run_dir), resume=True)
-        return _launch([job], reporter, executor, workers, scheduler, checkpoint_every, catalog)[0]
+        return run_jobs(
+            [job],
+            executor=executor,
+            workers=workers,
+            scheduler=scheduler,
+            catalog=catalog,
+            checkpoint_every=checkpoint_every,
+            reporter=reporter,
+            keep_populations=keep_populations,
+        )[0]
 
 
 def sweep(
@@ -160,7 +182,7 @@ def sweep(
             holds another experiment (without ``force``).
     """
     from mazegen.runtime.experiment import Experiment
-    from mazegen.runtime.launcher import Job
+    from mazegen.runtime.launcher import Job, run_jobs
     from mazegen.runtime.sweep import Axis, plan_cells
 
     axes = [Axis.parse(f"{name}={','.join(map(str, values))}") for name, values in settings.items()]
@@ -180,8 +202,18 @@ def sweep(
                 build_files(cell.spec, build)
                 experiment = Experiment.from_build_dir(build)
                 jobs.append(Job(experiment, cell.run_dir, force=force, sweep=cell.settings))
-        results = iter(_launch(jobs, reporter, executor, workers, scheduler, checkpoint_every, catalog,
-                               keep_populations=False))  # fmt: skip
+        results = iter(
+            run_jobs(
+                jobs,
+                executor=executor,
+                workers=workers,
+                scheduler=scheduler,
+                catalog=catalog,
+                checkpoint_every=checkpoint_every,
+                reporter=reporter,
+                keep_populations=False,
+            )
+        )
         return [(cell.run_dir, None if cell.state == "finished" else next(results)) for cell in cells]
 
 
@@ -198,28 +230,3 @@ def _resumable(run_dir: Path, build: Path) -> Experiment:
     directory.check_unfinished()
     # Loading fitness.py from the run directory would leave its bytecode cache there.
     return Experiment.from_build_dir(shutil.copytree(directory.build, build))
-
-
-def _launch(
-    jobs: list[Job],
-    reporter: Reporter | None,
-    executor: str | Executor,
-    workers: int | None,
-    scheduler: str | None,
-    checkpoint_every: int | None,
-    catalog: bool | str | os.PathLike[str],
-    *,
-    keep_populations: bool = True,
-) -> list[ExperimentResult]:
-    from mazegen.runtime.launcher import run_jobs
-
-    return run_jobs(
-        jobs,
-        executor=executor,
-        workers=workers,
-        scheduler=scheduler,
-        catalog=catalog if isinstance(catalog, bool) else Path(catalog),
-        checkpoint_every=checkpoint_every,
-        reporter=reporter,
-        keep_populations=keep_populations,
-    )

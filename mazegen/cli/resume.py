@@ -28,7 +28,7 @@ def resume(run_dir: Path, quiet: bool, **options: Any) -> None:
 
     reporter = reporter_for(quiet=quiet)
     try:
-        outcome = api.resume(run_dir, reporter=reporter, **launch_settings(options))
+        outcome = api.resume(run_dir, reporter=reporter, keep_populations=False, **launch_settings(options))
     finally:
         reporter.close()
     for line in summary_lines(outcome):

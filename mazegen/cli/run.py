@@ -61,6 +61,7 @@ def run(
             out_dir=target,
             force=force,
             reporter=reporter,
+            keep_populations=False,  # the summary needs the best scenarios only
             **launch_settings(options),
         )
     finally:

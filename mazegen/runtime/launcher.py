@@ -8,6 +8,7 @@ current generation and save a checkpoint; a second one aborts.
 
 from __future__ import annotations
 
+import os
 import signal
 import threading
 from collections.abc import Iterator
@@ -82,8 +83,9 @@ class _Launched:
         executor: str,
         policy: CheckpointPolicy,
         reporter: Reporter,
+        keep_population: bool,
     ) -> None:
-        self.job, self.catalog = job, catalog
+        self.job, self.catalog, self.keep_population = job, catalog, keep_population
         settings = job.experiment.problem.spec.evolution
         self.runs = settings.runs
         self.results: dict[int, RunResult] = {}
@@ -127,6 +129,7 @@ class _Launched:
                 policy=policy,
                 resume_from=resume_from,
                 prepare_files=self.directory is not None,
+                keep_population=self.keep_population,
             )
             self.tasks.append(task)
             reporter.add_run((index, run), f"{label}run {run}/{self.runs}", settings.generations, done=done)
@@ -148,7 +151,7 @@ class _Launched:
             return None
         return self.catalog, self.experiment_id
 
-    def take(self, outcome: RunOutcome, *, keep_population: bool) -> None:
+    def take(self, outcome: RunOutcome) -> None:
         """Write a finished run (and the whole experiment after its last run), or note a stopped one."""
         run, recorded = outcome.key[1], self._recorded()
         if not isinstance(outcome, FinishedRun):
@@ -161,7 +164,7 @@ class _Launched:
             if recorded is not None:
                 run_path = self.directory.run_path(run)
                 recorded[0].record_run(recorded[1], run, outcome.result, outcome.documents, run_path)
-        self.results[run] = outcome.result if keep_population else _statistics_only(outcome.result)
+        self.results[run] = outcome.result
         self.documents[run] = outcome.documents
         if self.complete:
             if self.directory is not None:
@@ -187,11 +190,6 @@ class _Launched:
             tuple(self.documents[n] for n in numbers),
             self.job.run_dir,
         )
-
-
-def _statistics_only(result: RunResult) -> RunResult:
-    empty = result.codons[:0].copy(), result.genes[:0].copy(), result.fitness[:0].copy()
-    return RunResult(*empty, result.stats)
 
 
 @contextmanager
@@ -236,7 +234,8 @@ def launch(
         reporter: Progress display.
         catalog: The catalog to record experiments with a run directory in.
         policy: When runs checkpoint (the default: every 30 s, and the last generation).
-        keep_populations: Keep each run's final population in the results (a sweep's are on disk).
+        keep_populations: Send each run's final population back to the results; without, the
+            results hold statistics and documents only (the populations are in the run directories).
 
     Raises:
         RunsInterrupted: after a Ctrl-C, once every run has stopped.
@@ -257,10 +256,11 @@ def launch(
                     executor=executor.name,
                     policy=policy,
                     reporter=reporter,
+                    keep_population=keep_populations,
                 )
             )
         with _stop_on_signals(executor, reporter):
-            _collect(launched, executor, reporter, keep_populations)
+            _collect(launched, executor, reporter)
     finally:
         for item in launched:
             item.close()
@@ -272,13 +272,11 @@ def launch(
     return [item.result() for item in launched]
 
 
-def _collect(
-    launched: list[_Launched], executor: Executor, reporter: Reporter, keep_populations: bool
-) -> None:
+def _collect(launched: list[_Launched], executor: Executor, reporter: Reporter) -> None:
     """Submit every run, then take their outcomes as they come; on any error, stop the others first."""
 
     def take(outcome: RunOutcome) -> None:
-        launched[outcome.key[0]].take(outcome, keep_population=keep_populations)
+        launched[outcome.key[0]].take(outcome)
         if isinstance(outcome, FinishedRun):
             reporter.finish_run(outcome.key)
 
@@ -315,7 +313,7 @@ def run_jobs(
     executor: str | Executor = "serial",
     workers: int | None = None,
     scheduler: str | None = None,
-    catalog: bool | Path = True,
+    catalog: bool | str | os.PathLike[str] = True,
     checkpoint_every: int | None = None,
     reporter: Reporter | None = None,
     keep_populations: bool = True,
@@ -352,12 +350,12 @@ def run_jobs(
         )
 
 
-def _open_catalog(jobs: list[Job], catalog: bool | Path) -> Catalog | None:
+def _open_catalog(jobs: list[Job], catalog: bool | str | os.PathLike[str]) -> Catalog | None:
     directories = [job.run_dir for job in jobs if job.run_dir is not None]
     if not directories or catalog is False:
         return None
-    if isinstance(catalog, Path):
-        return Catalog.open(catalog, create=True)  # a folder the user named must exist already
+    if not isinstance(catalog, bool):
+        return Catalog.open(Path(catalog), create=True)  # a folder the user named must exist already
     default = default_catalog(directories[0])
     default.parent.mkdir(parents=True, exist_ok=True)
     return Catalog.open(default, create=True)

@@ -62,6 +62,8 @@ class RunTask:
         resume_from: A checkpoint to continue from, or ``None`` to start afresh.
         threads: numba threads for the run, or ``None`` to keep the process's setting.
         prepare_files: Prepare the run folder's files (see :func:`run_files`).
+        keep_population: Send the final population back (else only statistics and documents:
+            the population is in the files).
     """
 
     key: RunKey
@@ -71,6 +73,7 @@ class RunTask:
     resume_from: str | None = None
     threads: int | None = None
     prepare_files: bool = False
+    keep_population: bool = True
 
     @property
     def run(self) -> int:
@@ -213,4 +216,6 @@ def run_task(task: RunTask, channel: Channel) -> RunOutcome:
         origin = {"seed": settings.seed, "run": task.run, "generation": settings.generations}
         documents = best_documents(problem, result, count=settings.best, origin=origin)
     files = run_files(result, documents) if task.prepare_files else None
+    if not task.keep_population:
+        result = RunResult(result.codons[:0], result.genes[:0], result.fitness[:0], result.stats)
     return FinishedRun(task.key, result, documents, files)
