@@ -17,7 +17,7 @@ from typing import Any
 
 from mazegen.errors import MazeError
 from mazegen.runtime.evolution import GenerationStats
-from mazegen.runtime.executors import PooledExecutor, progress_message
+from mazegen.runtime.executors import PooledExecutor, ProgressBatch
 from mazegen.runtime.worker import RunKey, RunOutcome, RunTask, run_task
 
 CONNECT_TIMEOUT = 10.0
@@ -31,12 +31,13 @@ class _DaskChannel:
     def __init__(self, topic: str, stop: str) -> None:
         from distributed import Event, get_worker
 
-        self._worker, self._topic = get_worker(), topic
+        worker = get_worker()
+        self._progress = ProgressBatch(lambda message: worker.log_event(topic, message))
         self._stop = Event(stop)
         self._checked, self._stopping = monotonic(), False
 
-    def progress(self, key: RunKey, stats: GenerationStats) -> None:
-        self._worker.log_event(self._topic, progress_message(key, stats))
+    def progress(self, key: RunKey, stats: GenerationStats, *, flush: bool) -> None:
+        self._progress.add(key, stats, flush=flush)
 
     def stop_requested(self) -> bool:
         now = monotonic()

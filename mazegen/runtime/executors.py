@@ -23,6 +23,7 @@ from collections import deque
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import astuple, replace
+from time import monotonic
 from types import TracebackType
 from typing import Any
 
@@ -40,14 +41,31 @@ def available_cores() -> int:
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
 
 
-def progress_message(key: RunKey, stats: GenerationStats) -> list[Any]:
-    """A generation's progress as a flat list (pickles and msgpacks alike)."""
-    return [*key, *astuple(stats)]
+PROGRESS_SECONDS = 0.1
+"""A worker sends its runs' progress at most this often: each message wakes the launcher."""
 
 
-def read_progress(message: list[Any]) -> tuple[RunKey, GenerationStats]:
-    """The inverse of :func:`progress_message`."""
-    return (message[0], message[1]), GenerationStats(*message[2:])
+class ProgressBatch:
+    """Generations' statistics sent as one message (a list of flat lists, which pickle and
+    msgpack alike) at most every :data:`PROGRESS_SECONDS`, and at a run's end."""
+
+    def __init__(self, send: Callable[[list[list[Any]]], None]) -> None:
+        self._send = send
+        self._pending: list[list[Any]] = []
+        self._sent = monotonic()
+
+    def add(self, key: RunKey, stats: GenerationStats, *, flush: bool) -> None:
+        """Queue a generation; send the batch when asked, or when the last one is old enough."""
+        self._pending.append([*key, *astuple(stats)])
+        now = monotonic()
+        if flush or now - self._sent >= PROGRESS_SECONDS:
+            self._send(self._pending)
+            self._pending, self._sent = [], now
+
+
+def read_progress(message: list[list[Any]]) -> list[tuple[RunKey, GenerationStats]]:
+    """The generations of a message from :class:`ProgressBatch`."""
+    return [((entry[0], entry[1]), GenerationStats(*entry[2:])) for entry in message]
 
 
 class Executor(ABC):
@@ -94,7 +112,7 @@ class _InlineChannel:
     def __init__(self, on_progress: ProgressSink, stop: threading.Event) -> None:
         self._on_progress, self._stop = on_progress, stop
 
-    def progress(self, key: RunKey, stats: GenerationStats) -> None:
+    def progress(self, key: RunKey, stats: GenerationStats, *, flush: bool) -> None:
         self._on_progress(key, stats)
 
     def stop_requested(self) -> bool:
@@ -150,7 +168,8 @@ class PooledExecutor(Executor):
         try:
             message = self._messages.get(timeout=timeout)
             while True:
-                on_progress(*read_progress(message))
+                for key, stats in read_progress(message):
+                    on_progress(key, stats)
                 message = self._messages.get_nowait()
         except queue.Empty:
             pass
@@ -164,11 +183,11 @@ class PooledExecutor(Executor):
 
 class _PoolChannel:
     def __init__(self, messages: Any, stop: Any) -> None:
-        self._messages, self._stop = messages, stop
+        self._progress, self._stop = ProgressBatch(messages.put), stop
         self._parent = os.getppid()
 
-    def progress(self, key: RunKey, stats: GenerationStats) -> None:
-        self._messages.put(progress_message(key, stats))
+    def progress(self, key: RunKey, stats: GenerationStats, *, flush: bool) -> None:
+        self._progress.add(key, stats, flush=flush)
 
     def stop_requested(self) -> bool:
         if os.getppid() != self._parent:

@@ -250,7 +250,7 @@ class RunDirectory:
         """Write run ``number``'s files (from :func:`run_files`), whole or not at all."""
         with staged_directory(self.run_path(number), force=True) as stage:
             for name, data in files.items():
-                write_atomic(stage / name, data)
+                (stage / name).write_bytes(data)  # the stage is renamed whole: no file needs its own rename
 
     def finish(self, results: list[RunResult]) -> None:
         """Write the statistics of every run (run 1 first), which marks the directory finished."""

@@ -106,8 +106,8 @@ RunOutcome = FinishedRun | InterruptedRun
 class Channel(Protocol):
     """How a run talks to the process that launched it."""
 
-    def progress(self, key: RunKey, stats: GenerationStats) -> None:
-        """Report one generation's statistics."""
+    def progress(self, key: RunKey, stats: GenerationStats, *, flush: bool) -> None:
+        """Report one generation's statistics (``flush``: the run's last, to send at once)."""
 
     def stop_requested(self) -> bool:
         """Whether the launcher asks runs to stop (Ctrl-C) at the end of the current generation."""
@@ -202,8 +202,9 @@ def run_task(task: RunTask, channel: Channel) -> RunOutcome:
             resume = read_checkpoint(Path(task.resume_from), experiment=task.build.digest)
 
         def on_generation(state: RunState) -> None:
-            channel.progress(task.key, state.stats[-1])
-            stopping = channel.stop_requested() and state.generation < settings.generations
+            last = state.generation == settings.generations
+            channel.progress(task.key, state.stats[-1], flush=last)
+            stopping = not last and channel.stop_requested()
             saved = checkpointer.after(state, stopping=stopping)
             if stopping:
                 raise _Stopped(state.generation, saved)
