@@ -24,14 +24,18 @@ COLUMNS = (
 )
 
 
-@click.command()
-@click.option(
+catalog_option = click.option(
     "--catalog",
     type=click.Path(path_type=Path),
     default=DEFAULT_CATALOG,
     show_default=True,
     help="The results catalog.",
 )
+"""The ``--catalog`` option of the commands that read a catalog."""
+
+
+@click.command()
+@catalog_option
 @click.option("--scenario", help="Only runs of this scenario.")
 @reports_errors
 def runs(catalog: Path, scenario: str | None) -> None:
@@ -40,11 +44,8 @@ def runs(catalog: Path, scenario: str | None) -> None:
     from mazegen.runtime.catalog import Catalog
     from mazegen.runtime.catalog_query import run_rows
 
-    opened = Catalog.open(catalog, create=False)
-    try:
+    with Catalog.open(catalog, create=False) as opened:
         rows = run_rows(opened, scenario=scenario)
-    finally:
-        opened.close()
     if not rows:
         click.echo("no runs in the catalog", err=True)
         return

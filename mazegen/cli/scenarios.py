@@ -7,7 +7,7 @@ from pathlib import Path
 import click
 
 from mazegen.cli.errors import reports_errors
-from mazegen.cli.runs import DEFAULT_CATALOG
+from mazegen.cli.runs import catalog_option
 
 COLUMNS = (
     ("fitness", "fitness"),
@@ -22,13 +22,7 @@ COLUMNS = (
 
 
 @click.command()
-@click.option(
-    "--catalog",
-    type=click.Path(path_type=Path),
-    default=DEFAULT_CATALOG,
-    show_default=True,
-    help="The results catalog.",
-)
+@catalog_option
 @click.option(
     "--where",
     "conditions",
@@ -74,11 +68,8 @@ def scenarios(
     if solvable:
         parsed.append(Condition("solvable", "=", 1.0))
     query = ScenarioQuery(tuple(parsed), scenario, sort, ascending, limit)
-    opened = Catalog.open(catalog, create=False)
-    try:
+    with Catalog.open(catalog, create=False) as opened:
         rows = scenario_rows(opened, query)
-    finally:
-        opened.close()
     if paths:
         for row in rows:
             click.echo(str(row["path"]))

@@ -156,6 +156,12 @@ class Catalog:
         """Close the file."""
         self._db.close()
 
+    def __enter__(self) -> Catalog:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
     def relative(self, path: Path) -> str:
         """``path`` as stored: relative to the catalog's folder."""
         return os.path.relpath(path.resolve(), self.path.parent.resolve())

@@ -170,6 +170,7 @@ def _survey_all(  # pragma: no cover - compiled
             free = scratch[1]
             count = path_cells(scratch[5], turns, free, grid[0], cols, cells)
             _path_metrics(free, cols, cells, count, reach, grid[0], table[i])
+            # The robot's scratch serves the point: same cells, and no wider dilation padding.
             _, point_found, point_total, _ = route(shapes, ids[i], n_el[i], params[i], point_grid, scratch)
             # The robot's path is a path for a point too: the point's is the shorter of the two.
             table[i, 5] = total / min(point_total, total) if point_found and total > 0.0 else 1.0

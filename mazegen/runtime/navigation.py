@@ -48,7 +48,7 @@ if TYPE_CHECKING:
 
 # Columns of the search's per-rectangle arrays.
 COST, X, Y = 0, 1, 2
-PREVIOUS, SETTLED = 0, 1
+PREVIOUS, SETTLED = 0, 1  # columns of the int array (``marks``)
 
 
 @dataclass(frozen=True)
@@ -218,12 +218,12 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     rects, edges = rectangles[0], rectangles[1]
     cell = grid[0]
     sx, sy, gx, gy = grid[5][0] / cell, grid[5][1] / cell, grid[5][2] / cell, grid[5][3] / cell
-    state, links, heads, entries, corridor = search
+    state, marks, heads, entries, corridor = search
     for q in range(count):
         state[q, COST] = np.inf
-        links[q, SETTLED] = 0
+        marks[q, SETTLED] = 0
     state[start, COST], state[start, X], state[start, Y] = 0.0, sx, sy
-    links[start, PREVIOUS] = -1
+    marks[start, PREVIOUS] = -1
     # A bucket queue ordered by (cost so far + straight line still to go) in cells:
     # constant-time pushes and pops; within a bucket the order is last in, first out.
     last = heads.shape[0] - 1
@@ -238,9 +238,9 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
         taken = heads[lowest]
         heads[lowest] = entries[taken, 0]
         here = entries[taken, 1]
-        if links[here, SETTLED]:
+        if marks[here, SETTLED]:
             continue
-        links[here, SETTLED] = 1
+        marks[here, SETTLED] = 1
         if here == goal:
             break
         spent, ex, ey = state[here, COST], state[here, X], state[here, Y]
@@ -259,28 +259,28 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
             hi_here = rects[here, LAST_COL] + 1
             for e in range(first, first + n):
                 q = edges[e, ABOVE] if side == 0 else edges[e, BELOW]
-                if links[q, SETTLED]:
+                if marks[q, SETTLED]:
                     continue
                 x = min(max(aim, max(lo_here, rects[q, FIRST_COL])), min(hi_here, rects[q, LAST_COL] + 1))
                 # sqrt, not hypot: hypot's overflow care costs more than it saves here
                 reached = spent + math.sqrt((x - ex) * (x - ex) + rise)
                 if reached < state[q, COST]:
                     state[q, COST], state[q, X], state[q, Y] = reached, x, y
-                    links[q, PREVIOUS] = here
+                    marks[q, PREVIOUS] = here
                     bucket = min(int(reached + math.sqrt((gx - x) * (gx - x) + rise_to_goal)), last)
                     used = _enqueue(heads, entries, used, bucket, q)
                     lowest = min(lowest, bucket)
                     first_used = min(first_used, bucket)
                     highest = max(highest, bucket)
     heads[first_used : highest + 1] = -1  # the queue empty again for the next search
-    if not links[goal, SETTLED]:
+    if not marks[goal, SETTLED]:
         return False, 0.0, 0
     hops = 0
     q = goal
     while q >= 0:
         corridor[hops] = q
         hops += 1
-        q = links[q, PREVIOUS]
+        q = marks[q, PREVIOUS]
     total, turns = _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners)
     for t in range(turns):
         corners[t, 0] *= cell

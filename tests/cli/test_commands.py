@@ -12,6 +12,7 @@ from click.testing import CliRunner
 
 from mazegen.cli.main import main
 from tests.conftest import EXAMPLES
+from tests.runtime.floors import floor_file
 
 PAPER_GENOME = ["34", "10", "200", "80", "5", "70", "45", "43"]
 
@@ -129,24 +130,15 @@ def test_run_rejects_population_zero(tmp_path):
 
 
 def test_score_a_hand_drawn_floor(tmp_path):
-    floor = {
-        "format": "mazegen-scenario",
-        "version": 1,
-        "elements": [
-            {"type": "router", "x": 100, "y": 100, "size": 30},
-            {"type": "router", "x": 300, "y": 100, "size": 30},
-            {"type": "router", "x": 500, "y": 100, "size": 30},
-            {"type": "router", "x": 700, "y": 100, "size": 30},
-        ],
-    }
-    path = tmp_path / "floor.json"
-    path.write_text(json.dumps(floor))
+    def routers(*xs: int) -> list[dict]:
+        return [{"type": "router", "x": x, "y": 100, "size": 30} for x in xs]
+
+    path = floor_file(tmp_path / "floor.json", *routers(100, 300, 500, 700))
     result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
     assert result.output.splitlines()[:3] == ["fitness\t4", "elements\t4", "count\t4"]
     # Figure 19: four elements, three overlapping pairs -> 4 - 0.5 * 3 = 2.5.
-    for item, x in zip(floor["elements"], (100, 110, 120, 700)):
-        item["x"] = x
-    path.write_text(json.dumps(floor))
+    overlapping = routers(100, 110, 120, 700)
+    floor_file(path, *overlapping)
     result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
     assert "overlap\t-1.5" in result.output.splitlines()
     assert result.output.splitlines()[0] == "fitness\t2.5"
@@ -156,8 +148,7 @@ def test_score_a_hand_drawn_floor(tmp_path):
     for label in ("closest obstacle", "visibility", "dispersion", "characteristic dimension", "difficulty"):
         assert label in labels
     # A wall from floor to ceiling: no path, and factory requires one.
-    floor["elements"].append({"type": "vwall", "x": 1000, "y": 525, "width": 20, "depth": 1100})
-    path.write_text(json.dumps(floor))
+    floor_file(path, *overlapping, {"type": "vwall", "x": 1000, "y": 525, "width": 20, "depth": 1100})
     lines = invoke("score", str(EXAMPLES / "factory.maze"), str(path)).output.splitlines()
     assert lines[0] == "fitness\tinvalid (rejected by the spec)" and "solvable\tno" in lines
 
@@ -254,13 +245,9 @@ def test_textx_knows_the_language_and_generator(tmp_path):
 
 
 def test_render_a_hand_drawn_floor_with_its_spec(tmp_path):
-    floor = {
-        "format": "mazegen-scenario",
-        "version": 1,
-        "elements": [{"type": "productionLine", "x": 700, "y": 500, "width": 400, "depth": 80}],
-    }
-    path = tmp_path / "floor.json"
-    path.write_text(json.dumps(floor))
+    path = floor_file(
+        tmp_path / "floor.json", {"type": "productionLine", "x": 700, "y": 500, "width": 400, "depth": 80}
+    )
     without = invoke("render", str(path), "-o", str(tmp_path / "a.svg"))
     assert without.exit_code == 1
     done = invoke(

@@ -13,6 +13,7 @@ from mazegen.cli.export import FORMAT_NAMES
 from mazegen.cli.main import main
 from mazegen.runtime.exporters import FORMATS
 from tests.conftest import EXAMPLES
+from tests.runtime.floors import floor_file
 
 SUFFIXES = {
     "ros": {".pgm", ".yaml"},
@@ -66,13 +67,9 @@ def test_one_scenario_exports_beside_itself_by_default(factory_run, tmp_path):
 
 
 def test_a_hand_drawn_floor_exports_with_its_spec(tmp_path):
-    floor = {
-        "format": "mazegen-scenario",
-        "version": 1,
-        "elements": [{"type": "productionLine", "x": 700, "y": 525, "width": 500, "depth": 80}],
-    }
-    path = tmp_path / "floor.json"
-    path.write_text(json.dumps(floor))
+    path = floor_file(
+        tmp_path / "floor.json", {"type": "productionLine", "x": 700, "y": 525, "width": 500, "depth": 80}
+    )
     without = invoke("export", str(path), "-f", "svg")
     assert without.exit_code == 1
     assert (

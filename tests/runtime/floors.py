@@ -3,7 +3,9 @@ populations built from element lists, and an exact-geometry solvability check.""
 
 from __future__ import annotations
 
+import json
 import math
+from pathlib import Path
 
 import numpy as np
 import shapely
@@ -60,3 +62,9 @@ def geometrically_solvable(document: dict) -> bool:
     start, goal = shapely.Point(arena["start"]), shapely.Point(arena["goal"])
     pieces = getattr(free, "geoms", [free])
     return any(piece.covers(start) and piece.covers(goal) for piece in pieces)
+
+
+def floor_file(path: Path, *elements: dict) -> Path:
+    """Write a hand-drawn scenario document (elements only, no arena) to ``path``."""
+    path.write_text(json.dumps({"format": "mazegen-scenario", "version": 1, "elements": list(elements)}))
+    return path

@@ -16,6 +16,7 @@ import mazegen
 from mazegen.runtime.exporters.floor import ExportOptions, load_floor
 from mazegen.runtime.exporters.gazebo import gazebo_files
 from tests.conftest import EXAMPLES
+from tests.runtime.floors import floor_file
 
 CM = 0.01
 
@@ -33,18 +34,13 @@ def world_of(floor, tmp_path: Path) -> Path:
 
 def figures_floor(tmp_path: Path):
     """The paper's figures (bars of several parts), rotated."""
-    document = {
-        "format": "mazegen-scenario",
-        "version": 1,
-        "elements": [
-            {"type": "angle", "x": 200, "y": 200, "size": 120, "rotation": 15},
-            {"type": "square", "x": 600, "y": 300, "size": 80, "rotation": 45},
-            {"type": "eshape", "x": 400, "y": 650, "size": 150, "rotation": 200},
-            {"type": "lshape", "x": 700, "y": 700, "size": 100},
-        ],
-    }
-    path = tmp_path / "figures.json"
-    path.write_text(json.dumps(document))
+    path = floor_file(
+        tmp_path / "figures.json",
+        {"type": "angle", "x": 200, "y": 200, "size": 120, "rotation": 15},
+        {"type": "square", "x": 600, "y": 300, "size": 80, "rotation": 45},
+        {"type": "eshape", "x": 400, "y": 650, "size": 150, "rotation": 200},
+        {"type": "lshape", "x": 700, "y": 700, "size": 100},
+    )
     return load_floor(path, mazegen.load(EXAMPLES / "mazegen1.maze"))
 
 

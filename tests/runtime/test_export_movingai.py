@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import heapq
-import json
 import math
 
 import numpy as np
@@ -15,6 +14,7 @@ from mazegen.runtime.cspace import free_cells, grid_of
 from mazegen.runtime.exporters.floor import ExportOptions, load_floor
 from mazegen.runtime.exporters.movingai import movingai_files, octile_length
 from tests.conftest import EXAMPLES
+from tests.runtime.floors import floor_file
 
 
 def read_map(text: str) -> np.ndarray:
@@ -99,13 +99,9 @@ def test_no_corner_cutting_and_exact_octile_lengths():
 
 
 def test_a_floor_without_a_path_has_no_problem_line(tmp_path):
-    floor = {
-        "format": "mazegen-scenario",
-        "version": 1,
-        "elements": [{"type": "vwall", "x": 700, "y": 525, "width": 20, "depth": 1100}],
-    }
-    path = tmp_path / "closed.json"
-    path.write_text(json.dumps(floor))
+    path = floor_file(
+        tmp_path / "closed.json", {"type": "vwall", "x": 700, "y": 525, "width": 20, "depth": 1100}
+    )
     passable, problems = exported(load_floor(path, mazegen.load(EXAMPLES / "factory.maze")))
     assert problems == [] and passable.any() and not passable.all()
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
@@ -17,6 +16,7 @@ from mazegen.runtime.cspace import free_cells, grid_of
 from mazegen.runtime.exporters.floor import ExportOptions, load_floor
 from mazegen.runtime.exporters.ros import FREE_THRESH, OCCUPIED_THRESH, ros_files
 from tests.conftest import EXAMPLES
+from tests.runtime.floors import floor_file
 
 OCCUPIED, FREE, UNKNOWN = 100, 0, -1
 
@@ -129,9 +129,7 @@ def hand_floor(tmp_path: Path, name: str, scale: float) -> Path:
         key: value * scale if key in ("x", "y", "width", "depth") else value
         for key, value in FLOOR_CM.items()
     }
-    path = tmp_path / f"{name}.json"
-    path.write_text(json.dumps({"format": "mazegen-scenario", "version": 1, "elements": [element]}))
-    return path
+    return floor_file(tmp_path / f"{name}.json", element)
 
 
 def test_metres_whatever_the_unit(tmp_path, write_spec):
@@ -153,9 +151,7 @@ def test_metres_whatever_the_unit(tmp_path, write_spec):
 
 def test_pixels_are_centimetres_unless_scaled(tmp_path):
     spec = mazegen.load(EXAMPLES / "mazegen1.maze")
-    path = tmp_path / "figures.json"
-    path.write_text(json.dumps({"format": "mazegen-scenario", "version": 1, "elements": []}))
-    floor = load_floor(path, spec)
+    floor = load_floor(floor_file(tmp_path / "figures.json"), spec)
     _, default = load_map(export(floor, tmp_path))
     _, scaled = load_map(export(floor, tmp_path, ExportOptions(scale=0.001)))
     assert default["resolution"] == pytest.approx(spec.arena.cell * 0.01)
