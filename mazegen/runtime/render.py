@@ -13,9 +13,7 @@ from __future__ import annotations
 import io
 import itertools
 import math
-import os
 import re
-import tempfile
 from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -26,6 +24,7 @@ from xml.sax.saxutils import escape
 from PIL import Image, ImageColor, ImageDraw, ImageFont
 
 from mazegen.errors import MazeError
+from mazegen.fileio import write_atomic
 
 Point = tuple[float, float]
 RGB = tuple[int, int, int]
@@ -385,14 +384,6 @@ def render_file(doc: dict, path: Path) -> None:
         raise MazeError(f"cannot draw into {path.name!r}: the name must end with .svg or .png")
     data = writer(doc)
     try:
-        fd, temp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-        try:
-            with os.fdopen(fd, "wb") as out:
-                out.write(data)
-            os.chmod(temp, 0o644)
-            os.replace(temp, path)
-        except BaseException:
-            os.unlink(temp)
-            raise
+        write_atomic(path, data)
     except OSError as exc:
         raise MazeError(f"cannot write {path}: {exc.strerror or exc}") from exc

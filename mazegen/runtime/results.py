@@ -36,7 +36,7 @@ except ImportError:  # Windows: run directories are not locked
     fcntl = None  # type: ignore[assignment]
 
 from mazegen.errors import MazeError
-from mazegen.fileio import write_atomic
+from mazegen.fileio import FOLDER_MODE, write_atomic
 from mazegen.runtime.evolution import GenerationStats, RunResult
 from mazegen.runtime.render import scenario_svg
 from mazegen.runtime.scenario import dumps
@@ -104,6 +104,7 @@ def staged_directory(target: Path, *, force: bool) -> Iterator[Path]:
         )
     target.parent.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    stage.chmod(FOLDER_MODE)
     try:
         yield stage
     except BaseException:

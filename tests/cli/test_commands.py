@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import stat
 import subprocess
 import sys
 from pathlib import Path
@@ -11,6 +12,7 @@ import pytest
 from click.testing import CliRunner
 
 from mazegen.cli.main import main
+from mazegen.fileio import FILE_MODE, FOLDER_MODE
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 
@@ -108,6 +110,20 @@ def test_run_writes_a_complete_run_directory(tmp_path):
             out / run / "best-01.svg"
         ).read_text()
         assert (out / run / "population.npz").is_file()
+
+
+def test_run_files_get_the_modes_the_umask_gives(tmp_path):
+    # Written through private temporary files and folders, yet readable as any file the user
+    # makes, e.g. by a simulator's container running as another user.
+    out = tmp_path / "run"
+    assert run_small(out).exit_code == 0
+    picture = tmp_path / "floor.png"
+    assert invoke("render", str(out / "run-01" / "best-01.json"), "-o", str(picture)).exit_code == 0
+    paths = [out, *out.rglob("*"), picture]
+    modes = {path.relative_to(tmp_path): stat.S_IMODE(path.stat().st_mode) for path in paths}
+    expected = {path.relative_to(tmp_path): FOLDER_MODE if path.is_dir() else FILE_MODE for path in paths}
+    assert modes == expected
+    assert FILE_MODE & 0o600 == 0o600 and FOLDER_MODE & 0o700 == 0o700
 
 
 def test_run_refuses_to_overwrite_and_keeps_old_results(tmp_path):
