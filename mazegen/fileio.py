@@ -22,9 +22,19 @@ FILE_MODE = 0o666 & ~_UMASK
 FOLDER_MODE = 0o777 & ~_UMASK
 
 
+def make_folder(path: Path) -> None:
+    """Create folder ``path`` and its parents; one that cannot be made is a one-line :class:`MazeError`."""
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise MazeError("cannot create the folder: a file is in the way", filename=str(path)) from None
+    except OSError as error:
+        raise MazeError(f"cannot create the folder: {error.strerror or error}", filename=str(path)) from None
+
+
 def write_atomic(path: Path, data: str | bytes) -> None:
     """Write ``data`` to ``path`` through a temporary file and a rename."""
-    path.parent.mkdir(parents=True, exist_ok=True)
+    make_folder(path.parent)
     payload = data.encode("utf-8") if isinstance(data, str) else data
     fd, temp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:

@@ -9,6 +9,9 @@ from mazegen.dsl.located import check_range, fail, single_properties, suggestion
 from mazegen.spec import DIFFICULTY_LEVELS, Arena, Evolution, FitnessTerm, GrammarPlacement, Scenario
 
 _WORD = re.compile(r"\w")
+# Element slots per floor: every individual carries this many placement rows, and the overlap
+# test keeps a list of every pair, so the count is bounded to keep memory in reason.
+MAX_SLOTS = 1000
 
 
 def convert_arena(decl: Any) -> Arena:
@@ -148,9 +151,10 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
         names = names or used
     if not names:
         fail(decl, f"{what} names no elements (add e.g. 'elements cobot, router')")
-    max_elements = props["MaxElementsProperty"].value if "MaxElementsProperty" in props else genome
-    if max_elements < 1:
-        fail(props["MaxElementsProperty"], f"max elements must be at least 1, got {max_elements}")
+    slots = props.get("MaxElementsProperty")
+    max_elements = slots.value if slots is not None else min(genome, MAX_SLOTS)
+    if not 1 <= max_elements <= MAX_SLOTS:
+        fail(slots, f"max elements must be within 1..{MAX_SLOTS}, got {max_elements}")
     placement = None
     prop = props.get("PlacementProperty")
     if prop is not None and not prop.genes:
@@ -267,9 +271,15 @@ def convert_evolution(decl: Any | None) -> Evolution:
         values["consume"] = props["ConsumeSetting"].mode
     evolution = Evolution(**values)
     if evolution.elitism >= evolution.population:
+        if "elitism" in props:
+            fail(
+                props["elitism"],
+                f"elitism {evolution.elitism} must be below the population {evolution.population}",
+            )
         fail(
-            props["elitism"],
-            f"elitism {evolution.elitism} must be below the population {evolution.population}",
+            props.get("population", decl),
+            f"population {evolution.population} must be above the elitism {evolution.elitism} (the default; "
+            "set elitism 0 to keep no elites)",
         )
     if evolution.selection == "tournament" and evolution.tournament > evolution.population:
         fail(

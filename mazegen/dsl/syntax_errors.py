@@ -26,7 +26,18 @@ _HINTS = (
     ({"'::='"}, "a grammar rule reads <name> ::= alternative | alternative"),
 )
 
-_TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|[-+]?\d+(\.\d+)?|\S")
+_TOKEN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*|[-+]?\d+(\.\d+)?([eE][-+]?\d+)?|\S")
+_EXPONENT = re.compile(r"'[-+]?\d+(\.\d+)?[eE][-+]?\d+'")
+_DECIMAL = re.compile(r"'[-+]?\d+\.\d+'")
+
+
+def _number_hint(expected: list[str], found: str) -> str | None:
+    """A hint for a number written in a form the language does not take."""
+    if _RULE_NAMES["Number"] in expected and _EXPONENT.fullmatch(found):
+        return "write numbers without an exponent, e.g. 1500 or 0.25"
+    if _RULE_NAMES["Integer"] in expected and (_EXPONENT.fullmatch(found) or _DECIMAL.fullmatch(found)):
+        return "write a whole number such as 4000"
+    return None
 
 
 def _describe(rule) -> str | None:
@@ -66,8 +77,9 @@ def syntax_error(error: TextXSyntaxError, text: str, filename: str) -> MazeError
     else:
         alternatives = ", ".join(expected[:-1]) + (" or " if len(expected) > 1 else "") + expected[-1]
         message = f"expected {alternatives}, found {found}"
-        for wanted, hint in _HINTS:
-            if wanted <= set(expected):
-                message += f" ({hint})"
-                break
+        hint = _number_hint(expected, found) or next(
+            (hint for wanted, hint in _HINTS if wanted <= set(expected)), None
+        )
+        if hint is not None:
+            message += f" ({hint})"
     return MazeError(message, filename=filename, line=line, col=col)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from mazegen.fileio import make_folder
 from mazegen.runtime.catalog import Catalog, default_catalog
 from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointStore
 from mazegen.runtime.evolution import RunResult
@@ -357,5 +358,5 @@ def _open_catalog(jobs: list[Job], catalog: bool | str | os.PathLike[str]) -> Ca
     if not isinstance(catalog, bool):
         return Catalog.open(Path(catalog), create=True)  # a folder the user named must exist already
     default = default_catalog(directories[0])
-    default.parent.mkdir(parents=True, exist_ok=True)
+    make_folder(default.parent)
     return Catalog.open(default, create=True)

@@ -36,7 +36,7 @@ except ImportError:  # Windows: run directories are not locked
     fcntl = None  # type: ignore[assignment]
 
 from mazegen.errors import MazeError
-from mazegen.fileio import FOLDER_MODE, write_atomic
+from mazegen.fileio import FOLDER_MODE, make_folder, write_atomic
 from mazegen.runtime.evolution import GenerationStats, RunResult
 from mazegen.runtime.render import scenario_svg
 from mazegen.runtime.scenario import dumps
@@ -102,7 +102,7 @@ def staged_directory(target: Path, *, force: bool) -> Iterator[Path]:
             "or -o to choose another)",
             filename=str(target),
         )
-    target.parent.mkdir(parents=True, exist_ok=True)
+    make_folder(target.parent)
     stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
     stage.chmod(FOLDER_MODE)
     try:
@@ -156,7 +156,7 @@ class RunDirectory:
         """
         if path.exists() and not path.is_dir():
             raise MazeError("output directory is a file", filename=str(path))
-        path.mkdir(parents=True, exist_ok=True)
+        make_folder(path)
         directory = cls(path)
         directory.lock()
         if any(path.iterdir()):

@@ -288,6 +288,29 @@ def test_unreadable_inputs_give_one_line_errors(tmp_path):
         )
 
 
+def test_outputs_under_a_file_give_one_line_errors(tmp_path):
+    blocker = tmp_path / "plain.txt"
+    blocker.write_text("not a folder")
+    run_small(tmp_path / "run")
+    scenario = str(tmp_path / "run" / "run-01" / "best-01.json")
+    small = ("--iterations", "1", "--batch", "50", "-q")
+    for args, folder in (
+        (("run", str(EXAMPLES / "factory.maze"), "-q", "-o", str(blocker / "run")), blocker),
+        (
+            ("suite", str(EXAMPLES / "workshop.maze"), "--size", "2", *small, "-o", str(blocker / "s")),
+            blocker,
+        ),
+        (("render", scenario, "-o", str(blocker / "deeper" / "floor.svg")), blocker / "deeper"),
+    ):
+        result = invoke(*args)
+        assert result.exit_code == 1, result.output
+        assert result.stderr.splitlines() == [
+            f"{folder}: cannot create the folder: "
+            + ("a file is in the way" if folder == blocker else "Not a directory")
+        ]
+    assert blocker.read_text() == "not a folder"
+
+
 def test_run_a_build_dir_names_the_run_by_the_seed_used(tmp_path, monkeypatch):
     build = tmp_path / "build"
     invoke("build", str(EXAMPLES / "factory.maze"), "-o", str(build))

@@ -25,6 +25,18 @@ BAD_SPECS = [
         "1:38",
         "expected a number, found '}'",
     ),
+    (
+        "syntax: a number with an exponent",
+        spec(tail="fitness { count weight 1e3 }\n"),
+        "4:24",
+        "expected a number, found '1e3' (write numbers without an exponent",
+    ),
+    (
+        "syntax: a decimal where a whole number goes",
+        spec(tail="evolution { population 2.5 }\n"),
+        "4:24",
+        "expected a whole number, found '2.5' (write a whole number such as 4000)",
+    ),
     ("syntax: size needs x", spec(arena="arena floor { size 1000 by 800 }\n"), "2:25", "expected 'x'"),
     ("syntax: unclosed block", ELEMENT + "arena floor { size 10 x 10 cm\n", "3:1", "found end of file"),
     (
@@ -136,6 +148,12 @@ BAD_SPECS = [
         "4:26",
         "elitism 5 must be below the population 5",
     ),
+    (
+        "population within the default elitism",
+        spec(tail="evolution { population 1 }\n"),
+        "4:13",
+        "population 1 must be above the elitism 1 (the default",
+    ),
     ("duplicate setting", spec(tail="evolution { seed 1 seed 2 }\n"), "4:20", "duplicate 'seed'"),
     ("duplicate term", spec(tail="fitness { count count }\n"), "4:17", "duplicate fitness term 'count'"),
     (
@@ -209,7 +227,13 @@ BAD_SPECS = [
         "max elements 0",
         spec(scenario="scenario s on floor { elements box max elements 0 }\n"),
         "3:36",
-        "max elements must be at least 1",
+        "max elements must be within 1..1000, got 0",
+    ),
+    (
+        "max elements beyond the slots' bound",
+        spec(scenario="scenario s on floor { elements box max elements 100000 }\n"),
+        "3:36",
+        "max elements must be within 1..1000, got 100000",
     ),
     ("two scenarios", spec(tail=SCENARIO), "4:1", "only one scenario block per file"),
     (
