@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from mazegen.cli.errors import reports_errors
+from mazegen.errors import MazeError
 
 
 @click.command()
@@ -27,12 +28,20 @@ from mazegen.cli.errors import reports_errors
 def render(scenario: Path, out: Path, spec: Path | None) -> None:
     """Draw SCENARIO (a scenario JSON file) as SVG or PNG."""
     from mazegen.runtime.render import render_file
-    from mazegen.runtime.scenario import completed_document, read_document
+    from mazegen.runtime.scenario import check_complete, completed_document, read_document
 
     document = read_document(scenario)
     if spec is not None:
         from mazegen.dsl.loader import load_spec
 
         document = completed_document(load_spec(spec), document, str(scenario))
+    elif "arena" not in document or not all(
+        isinstance(element, dict) and "parts" in element for element in document["elements"]
+    ):
+        raise MazeError(
+            "the scenario has no arena or no element parts: give --spec SPEC.maze to compute them",
+            filename=str(scenario),
+        )
+    check_complete(document, str(scenario))
     render_file(document, out)
     click.echo(str(out))

@@ -70,6 +70,13 @@ def test_map_rejects_a_bad_genome_line(tmp_path):
     assert "genomes.txt:2:1: a genome is integers" in result.stderr
 
 
+@pytest.fixture(scope="module")
+def small_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("small") / "run"
+    assert run_small(out).exit_code == 0
+    return out
+
+
 def run_small(out: Path, *extra: str):
     return invoke(
         "run",
@@ -266,11 +273,32 @@ def test_render_a_hand_drawn_floor_with_its_spec(tmp_path):
     )
     without = invoke("render", str(path), "-o", str(tmp_path / "a.svg"))
     assert without.exit_code == 1
+    assert without.stderr.strip().endswith("no element parts: give --spec SPEC.maze to compute them")
     done = invoke(
         "render", str(path), "-o", str(tmp_path / "a.svg"), "--spec", str(EXAMPLES / "factory.maze")
     )
     assert done.exit_code == 0, done.output
     assert (tmp_path / "a.svg").read_text().count("<polygon") == 1
+
+
+@pytest.mark.parametrize(
+    ("damage", "message"),
+    [
+        (lambda d: d["elements"][0].pop("type"), "element 1: 'type' must be a string"),
+        (lambda d: d["arena"].update(width=-1), "arena: 'width' must be positive"),
+        (lambda d: d["elements"][0].update(x="abc"), "element 1: 'x' must be a number"),
+        (lambda d: d["elements"][0].update(parts=[[[0, 0]]]), "element 1: a part"),
+    ],
+)
+def test_render_refuses_a_damaged_scenario_in_one_line(tmp_path, small_run, damage, message):
+    document = json.loads((small_run / "run-01" / "best-01.json").read_text())
+    damage(document)
+    path = tmp_path / "damaged.json"
+    path.write_text(json.dumps(document))
+    result = invoke("render", str(path), "-o", str(tmp_path / "floor.svg"))
+    assert result.exit_code == 1
+    assert len(result.stderr.splitlines()) == 1 and result.stderr.startswith(f"{path}: {message}")
+    assert not (tmp_path / "floor.svg").exists()
 
 
 def test_unreadable_inputs_give_one_line_errors(tmp_path):
