@@ -1,4 +1,4 @@
-"""``mazegen map GRAMMAR.bnf CODON...``: map genomes through a BNF grammar."""
+"""``mazegen map GRAMMAR.bnf|SPEC.maze CODON...``: map genomes through a BNF grammar, or a spec's."""
 
 from __future__ import annotations
 
@@ -39,25 +39,45 @@ def _genomes(path: Path) -> list[tuple[int, list[int]]]:
     help="File with one genome per line (codons separated by spaces or commas).",
 )
 @click.option(
-    "--wraps", type=click.IntRange(min=0), default=0, show_default=True, help="Extra passes over the genome."
+    "--wraps",
+    type=click.IntRange(min=0),
+    help="Extra passes over the genome.  [default: the spec's, else 0]",
 )
 @click.option(
     "--consume",
     type=click.Choice(["eager", "lazy"]),
-    default="eager",
-    show_default=True,
-    help="eager: one-alternative rules use a codon (PonyGE2); lazy: they do not.",
+    help="eager: one-alternative rules use a codon (PonyGE2); lazy: they do not.  "
+    "[default: the spec's, else eager]",
 )
 @click.option("--json", "as_json", is_flag=True, help="One JSON object per genome.")
 @reports_errors
 def map_command(
-    grammar: Path, codons: tuple[int, ...], genomes: Path | None, wraps: int, consume: str, as_json: bool
+    grammar: Path,
+    codons: tuple[int, ...],
+    genomes: Path | None,
+    wraps: int | None,
+    consume: str | None,
+    as_json: bool,
 ) -> None:
-    """Print the phenotype of each genome and the codons it used, or `invalid`."""
-    from mazegen.runtime.bnf import read_bnf
+    """Print the phenotype of each genome and the codons it used, or `invalid`.
+
+    GRAMMAR is a BNF file, or a spec (.maze) whose grammar is built on the fly.
+    """
+    from mazegen.runtime.bnf import parse_bnf, read_bnf
     from mazegen.runtime.mapping import map_genome
 
-    parsed = read_bnf(grammar)
+    if grammar.suffix == ".maze":
+        from mazegen.dsl.loader import load_spec
+        from mazegen.generator.build import render_artifacts
+
+        spec = load_spec(grammar)
+        parsed = parse_bnf(render_artifacts(spec)["grammar.bnf"], filename=f"{grammar} (its grammar)")
+        wraps = spec.evolution.wraps if wraps is None else wraps
+        consume = spec.evolution.consume if consume is None else consume
+    else:
+        parsed = read_bnf(grammar)
+    wraps = 0 if wraps is None else wraps
+    consume = consume or "eager"
     if genomes is not None:
         batch = [genome for _, genome in _genomes(genomes)]
     elif codons:

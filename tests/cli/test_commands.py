@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import random
 import stat
 import subprocess
 import sys
@@ -45,6 +46,26 @@ def test_build_then_map_the_papers_example(tmp_path):
     assert invoke("build", str(EXAMPLES / "mazegen1.maze"), "-o", str(out)).exit_code == 0
     result = invoke("map", str(out / "grammar.bnf"), *PAPER_GENOME)
     assert result.output == "eshape(angle)\t3 codons\n"
+
+
+def test_map_a_spec_as_its_built_grammar_with_its_settings(tmp_path, write_spec):
+    out = tmp_path / "build"
+    invoke("build", str(EXAMPLES / "factory.maze"), "-o", str(out))
+    genomes = tmp_path / "genomes.txt"
+    rng = random.Random(5)
+    lines = (" ".join(str(rng.randrange(256)) for _ in range(12)) for _ in range(40))
+    genomes.write_text("\n".join(lines) + "\n")
+    from_spec = invoke("map", str(EXAMPLES / "factory.maze"), "--genomes", str(genomes))
+    from_build = invoke("map", str(out / "grammar.bnf"), "--genomes", str(genomes))
+    assert from_spec.exit_code == 0 and from_spec.output == from_build.output
+    assert len(set(from_spec.output.splitlines())) > 5
+    # The spec's own wraps and consume apply unless the options say otherwise.
+    wrapped = (EXAMPLES / "mazegen1.maze").read_text().replace("evolution {", "evolution {\n    wraps 2")
+    spec = write_spec(wrapped, name="wrapped.maze")
+    with_spec = invoke("map", str(spec), "4", "4", "4")
+    paper = str(EXAMPLES / "mazegen1.maze")
+    assert with_spec.output == invoke("map", paper, "4", "4", "4", "--wraps", "2").output
+    assert with_spec.output != invoke("map", str(spec), "4", "4", "4", "--wraps", "0").output
 
 
 def test_map_genomes_file_as_json(tmp_path):
