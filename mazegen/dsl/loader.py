@@ -62,7 +62,17 @@ def parse_file(path: Path) -> ParsedFile:
             raise syntax_error(error, text, label) from None
         except TextXSemanticError as error:
             raise MazeError(error.message, filename=label, line=error.line, col=error.col) from None
+    _check_declares(model, label)
     return ParsedFile(path, label, model)
+
+
+def _check_declares(model: Any, label: str | None) -> None:
+    if not hasattr(model, "declarations"):  # textX gives back the text itself when it holds no rule
+        raise MazeError(
+            "the file declares nothing (a spec needs 'scenario NAME on ARENA { ... }', "
+            "a library at least one element)",
+            filename=label,
+        )
 
 
 def _resolve_import(imp: Any, importer: Path) -> Path:
@@ -192,6 +202,7 @@ def _files_of_model(model: Any) -> list[ParsedFile]:
 
 def check_model(model: Any) -> None:
     """Check an already parsed main model (used by the textX model processor)."""
+    _check_declares(model, None)
     with _loading():
         _check_files(_files_of_model(model))
 

@@ -278,6 +278,10 @@ def test_textx_knows_the_language_and_generator(tmp_path):
     assert (
         refused.returncode != 0 and "bad.maze:1:31: empty size range 9..1" in refused.stdout + refused.stderr
     )
+    bad.write_text("// nothing yet\n")
+    empty = subprocess.run(["textx", "check", str(bad)], capture_output=True, text=True)
+    assert empty.returncode != 0 and "Traceback" not in empty.stderr
+    assert "the file declares nothing" in empty.stdout + empty.stderr
     out = tmp_path / "gen"
     generate = subprocess.run(
         ["textx", "generate", str(EXAMPLES / "mazegen1.maze"), "--target", "mazegen", "-o", str(out)],

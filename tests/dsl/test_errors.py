@@ -264,6 +264,14 @@ def test_missing_file_is_reported(tmp_path):
         load_spec(tmp_path / "absent.maze")
 
 
+@pytest.mark.parametrize("text", ["", "   \n\n", "// only a comment\n"])
+def test_a_file_that_declares_nothing_is_reported(write_spec, text):
+    path = write_spec(text)
+    for read in (check_file, load_spec):
+        with pytest.raises(MazeError, match=r"spec\.maze: the file declares nothing \(a spec needs"):
+            read(path)
+
+
 def test_library_without_scenario_checks_but_does_not_load(write_spec):
     path = write_spec(ELEMENT)
     check_file(path)
