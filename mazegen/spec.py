@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -176,9 +177,39 @@ class FitnessTerm:
         return self.metric if self.kind == "metric" and self.metric else self.kind
 
 
+EVOLUTION_BOUNDS: dict[str, tuple[Callable[[float], bool], str]] = {
+    "population": (lambda v: v >= 1, "at least 1"),
+    "generations": (lambda v: v >= 0, "at least 0"),
+    "genome": (lambda v: v >= 1, "at least 1"),
+    "elitism": (lambda v: v >= 0, "at least 0"),
+    "runs": (lambda v: v >= 1, "at least 1"),
+    "seed": (lambda v: v >= 0, "at least 0"),
+    "wraps": (lambda v: v >= 0, "at least 0"),
+    "best": (lambda v: v >= 1, "at least 1"),
+    "tournament": (lambda v: v >= 1, "at least 1"),
+    "truncation": (lambda v: 0 < v <= 1, "within (0, 1]"),
+    "crossover": (lambda v: 0 <= v <= 1, "within [0, 1]"),
+    "mutation": (lambda v: 0 <= v <= 1, "within [0, 1]"),
+    "codon_max": (lambda v: v >= 1, "at least 1"),
+}
+"""Each evolution setting's bounds and how to say them: the one table the language, the
+command-line overrides, sweeps and ``spec.json`` are checked against."""
+
+
+def out_of_bounds(key: str, value: float) -> str | None:
+    """``"must be at least 1"``-style text when ``value`` is outside ``key``'s bounds, else None."""
+    check, bounds = EVOLUTION_BOUNDS[key]
+    return None if check(value) else f"must be {bounds}"
+
+
 @dataclass(frozen=True)
 class Evolution:
-    """Evolution settings (defaults follow the paper's Table 1)."""
+    """Evolution settings (defaults follow the paper's Table 1).
+
+    Raises:
+        ValueError: for a setting outside its bounds (:data:`EVOLUTION_BOUNDS`) or an
+            unknown selection or consume mode.
+    """
 
     population: int = 1000
     generations: int = 15
@@ -195,6 +226,17 @@ class Evolution:
     wraps: int = 0
     consume: str = "eager"
     best: int = 10
+
+    def __post_init__(self) -> None:
+        for key in EVOLUTION_BOUNDS:
+            value = getattr(self, key)
+            problem = out_of_bounds(key, value)
+            if problem is not None:
+                raise ValueError(f"{key} {problem}, got {value}")
+        if self.selection not in ("truncation", "tournament"):
+            raise ValueError(f"selection must be truncation or tournament, got {self.selection!r}")
+        if self.consume not in ("eager", "lazy"):
+            raise ValueError(f"consume must be eager or lazy, got {self.consume!r}")
 
 
 @dataclass(frozen=True)

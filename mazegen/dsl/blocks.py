@@ -6,7 +6,15 @@ import re
 from typing import Any
 
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
-from mazegen.spec import DIFFICULTY_LEVELS, Arena, Evolution, FitnessTerm, GrammarPlacement, Scenario
+from mazegen.spec import (
+    DIFFICULTY_LEVELS,
+    Arena,
+    Evolution,
+    FitnessTerm,
+    GrammarPlacement,
+    Scenario,
+    out_of_bounds,
+)
 
 _WORD = re.compile(r"\w")
 # Element slots per floor: every individual carries this many placement rows, and the overlap
@@ -228,37 +236,31 @@ def convert_evolution(decl: Any | None) -> Evolution:
         return Evolution()
     props = single_properties(decl.settings, "evolution")
     values: dict[str, Any] = {}
-    minimum = {
-        "population": 1,
-        "generations": 0,
-        "genome": 1,
-        "elitism": 0,
-        "runs": 1,
-        "seed": 0,
-        "wraps": 0,
-        "best": 1,
-    }
-    for key, low in minimum.items():
+    for key in ("population", "generations", "genome", "elitism", "runs", "seed", "wraps", "best"):
         if key in props:
             value = props[key].value
-            if value < low:
-                fail(props[key], f"{key} must be at least {low}, got {value}")
+            problem = out_of_bounds(key, value)
+            if problem is not None:
+                fail(props[key], f"{key} {problem}, got {value}")
             values[key] = value
     for key in ("crossover", "mutation"):
         if key in props:
             rate = props[key].value
-            if not 0 <= rate <= 1:
-                fail(props[key], f"{key} rate must be within [0, 1], got {rate:g}")
+            problem = out_of_bounds(key, rate)
+            if problem is not None:
+                fail(props[key], f"{key} rate {problem}, got {rate:g}")
             values[key] = rate
     selection = props.get("SelectionSetting")
     if selection is not None:
         if selection.tournament is not None:
-            if selection.tournament < 1:
-                fail(selection, f"tournament size must be at least 1, got {selection.tournament}")
+            problem = out_of_bounds("tournament", selection.tournament)
+            if problem is not None:
+                fail(selection, f"tournament size {problem}, got {selection.tournament}")
             values.update(selection="tournament", tournament=selection.tournament)
         else:
-            if not 0 < selection.fraction <= 1:
-                fail(selection, f"selection must be within (0, 1], got {selection.fraction:g}")
+            problem = out_of_bounds("truncation", selection.fraction)
+            if problem is not None:
+                fail(selection, f"selection {problem}, got {selection.fraction:g}")
             values.update(selection="truncation", truncation=selection.fraction)
     if "CodonSetting" in props:
         codons = props["CodonSetting"].range

@@ -24,9 +24,8 @@ from mazegen.runtime.problem import Problem
 from mazegen.runtime.progress import reporter_for
 from mazegen.runtime.results import json_text
 from mazegen.runtime.worker import BuildFiles
-from mazegen.spec import Spec
+from mazegen.spec import EVOLUTION_BOUNDS, Spec, out_of_bounds
 
-OVERRIDE_MINIMUM = {"seed": 0, "runs": 1, "population": 1, "generations": 0}
 BUILD_FILES = ("spec.json", "grammar.bnf", "fitness.py", "experiment.py")
 
 
@@ -47,10 +46,10 @@ class Experiment:
         Raises:
             MazeError: for a value out of its bounds (``--population 0``).
         """
-        for key, low in OVERRIDE_MINIMUM.items():
-            value = overrides.get(key)
-            if value is not None and value < low:
-                raise MazeError(f"--{key} must be at least {low}, got {value}")
+        for key, value in overrides.items():
+            problem = None if value is None or key not in EVOLUTION_BOUNDS else out_of_bounds(key, value)
+            if problem is not None:
+                raise MazeError(f"--{key} {problem}, got {value}")
         spec = self.problem.spec.with_evolution(**overrides)
         if spec.evolution.elitism >= spec.evolution.population:
             spec = spec.with_evolution(elitism=spec.evolution.population - 1)

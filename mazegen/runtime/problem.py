@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import importlib.util
 import sys
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from types import ModuleType
+from types import ModuleType, TracebackType
+from typing import Any
 
 import numpy as np
 
@@ -167,12 +169,17 @@ class Problem:
         return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params)
 
     def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """Fitness and per-term values of a decoded population."""
-        terms = self.fitness_module.terms(population)
+        """Fitness and per-term values of a decoded population.
+
+        Raises:
+            MazeError: when the fitness module (which users may edit) fails, naming its line.
+        """
+        terms = _call_fitness(self.fitness_module, "terms", population)
         total = np.zeros(population.size, dtype=np.float64)
         for values in terms.values():
             total += values
-        bad = ~population.valid | np.asarray(self.fitness_module.rejected(population), dtype=bool)
+        rejected = _call_fitness(self.fitness_module, "rejected", population)
+        bad = ~population.valid | np.asarray(rejected, dtype=bool)
         return np.where(bad, INVALID, total), terms
 
     def evaluate(
@@ -182,3 +189,28 @@ class Problem:
         mapped, population = self.decode(codons, genes, workspace)
         fitness, terms = self.score(population)
         return Evaluation(fitness, terms, population, mapped)
+
+
+def _call_fitness(module: ModuleType, name: str, population: Population) -> Any:
+    """``module.name(population)``; an exception raised through the module's own lines becomes a
+    one-line error at the last of them (the module runs from a worker's copy, so it is named
+    ``fitness.py`` alone)."""
+    try:
+        return getattr(module, name)(population)
+    except Exception as error:
+        lines = [
+            tb.tb_lineno
+            for tb in _frames(error.__traceback__)
+            if tb.tb_frame.f_code.co_filename == module.__file__
+        ]
+        if not lines:
+            raise
+        raise MazeError(
+            f"{name}(pop) raised {type(error).__name__}: {error}", filename="fitness.py", line=lines[-1]
+        ) from None
+
+
+def _frames(tb: TracebackType | None) -> Iterator[TracebackType]:
+    while tb is not None:
+        yield tb
+        tb = tb.tb_next

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from mazegen.errors import MazeError
-from mazegen.spec import Spec
+from mazegen.spec import EVOLUTION_BOUNDS, Spec
 
 Value = int | float
 
@@ -28,19 +28,10 @@ class _Setting:
     bounds: str
 
 
+_WHOLE = ("population", "generations", "genome", "runs", "seed", "elitism", "best", "wraps", "tournament")
 _SETTINGS = {
-    "population": _Setting(int, lambda v: v >= 1, "at least 1"),
-    "generations": _Setting(int, lambda v: v >= 0, "at least 0"),
-    "genome": _Setting(int, lambda v: v >= 1, "at least 1"),
-    "runs": _Setting(int, lambda v: v >= 1, "at least 1"),
-    "seed": _Setting(int, lambda v: v >= 0, "at least 0"),
-    "elitism": _Setting(int, lambda v: v >= 0, "at least 0"),
-    "best": _Setting(int, lambda v: v >= 1, "at least 1"),
-    "wraps": _Setting(int, lambda v: v >= 0, "at least 0"),
-    "tournament": _Setting(int, lambda v: v >= 1, "at least 1"),
-    "truncation": _Setting(float, lambda v: 0 < v <= 1, "within (0, 1]"),
-    "crossover": _Setting(float, lambda v: 0 <= v <= 1, "within [0, 1]"),
-    "mutation": _Setting(float, lambda v: 0 <= v <= 1, "within [0, 1]"),
+    **{name: _Setting(int, *EVOLUTION_BOUNDS[name]) for name in _WHOLE},
+    **{name: _Setting(float, *EVOLUTION_BOUNDS[name]) for name in ("truncation", "crossover", "mutation")},
 }
 """Evolution settings a sweep may vary, with their bounds (those of the evolution block)."""
 

@@ -364,6 +364,30 @@ def test_outputs_under_a_file_give_one_line_errors(tmp_path):
     assert blocker.read_text() == "not a folder"
 
 
+def test_an_edited_build_that_fails_gives_one_line_errors(tmp_path):
+    build = tmp_path / "build"
+    assert invoke("build", str(EXAMPLES / "factory.maze"), "-o", str(build)).exit_code == 0
+    fitness = build / "fitness.py"
+    text = fitness.read_text()
+    head = "def terms(pop: Population) -> dict[str, np.ndarray]:"
+    at = text.splitlines().index(head) + 2  # the line of the raise, just below the def
+    fitness.write_text(text.replace(head, head + "\n    raise ValueError('a slip')"))
+    small = ("--population", "20", "--generations", "1", "-q")
+    for executor in ("serial", "local"):
+        result = invoke("run", str(build), *small, "--executor", executor, "-o", str(tmp_path / executor))
+        assert result.exit_code == 1
+        assert result.stderr.splitlines() == [f"fitness.py:{at}: terms(pop) raised ValueError: a slip"]
+    fitness.write_text(text)
+    spec = json.loads((build / "spec.json").read_text())
+    spec["evolution"]["population"] = -3
+    (build / "spec.json").write_text(json.dumps(spec))
+    result = invoke("run", str(build), "-q", "-o", str(tmp_path / "damaged"))
+    assert result.exit_code == 1
+    assert result.stderr.strip().endswith(
+        "damaged spec.json (ValueError: population must be at least 1, got -3)"
+    )
+
+
 def test_run_a_build_dir_names_the_run_by_the_seed_used(tmp_path, monkeypatch):
     build = tmp_path / "build"
     invoke("build", str(EXAMPLES / "factory.maze"), "-o", str(build))
