@@ -239,6 +239,8 @@ def population_from_document(
             sx = sy = _number(item, "size", where)
         else:
             sx, sy = _number(item, "width", where), _number(item, "depth", where)
+        if min(sx, sy) <= 0:
+            raise MazeError(f"{where}: its size must be positive")
         rotation = _number(item, "rotation", where) if "rotation" in item else 0.0
         params[0, slot] = (
             _number(item, "x", where),

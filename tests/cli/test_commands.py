@@ -211,6 +211,11 @@ def test_score_a_hand_drawn_floor(tmp_path):
             '"size": 3}]}',
             "element 1: 'x' must be a number",
         ),
+        (
+            '{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "router", "x": 90, "y": 80, '
+            '"size": 30}, {"type": "hwall", "x": 500, "y": 500, "width": 200, "depth": -10}]}',
+            "element 2: its size must be positive",
+        ),
     ],
 )
 def test_score_reports_bad_scenarios(tmp_path, content, message):
