@@ -23,6 +23,18 @@ def write_spec(tmp_path: Path):
 
 
 @pytest.fixture(scope="session")
+def factory(tmp_path_factory):
+    """The built problem of examples/factory.maze; do not modify it."""
+    import mazegen
+    from mazegen.generator.build import build
+    from mazegen.runtime.problem import Problem
+
+    out = tmp_path_factory.mktemp("factory-build")
+    build(mazegen.load(EXAMPLES / "factory.maze"), out)
+    return Problem.from_build_dir(out)
+
+
+@pytest.fixture(scope="session")
 def factory_run(tmp_path_factory) -> Path:
     """A small run directory of examples/factory.maze (2 runs, 4 best scenarios each); do not modify it."""
     import mazegen

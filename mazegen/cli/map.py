@@ -11,6 +11,7 @@ import click
 from mazegen.cli.errors import reports_errors
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
+from mazegen.spec import Evolution
 
 _SEPARATOR = re.compile(r"[\s,]+")
 
@@ -66,18 +67,18 @@ def map_command(
     from mazegen.runtime.bnf import parse_bnf, read_bnf
     from mazegen.runtime.mapping import map_genome
 
+    settings = Evolution()  # a bare grammar maps with the defaults
     if grammar.suffix == ".maze":
         from mazegen.dsl.loader import load_spec
-        from mazegen.generator.build import render_artifacts
+        from mazegen.generator.build import grammar_text
 
         spec = load_spec(grammar)
-        parsed = parse_bnf(render_artifacts(spec)["grammar.bnf"], filename=f"{grammar} (its grammar)")
-        wraps = spec.evolution.wraps if wraps is None else wraps
-        consume = spec.evolution.consume if consume is None else consume
+        parsed = parse_bnf(grammar_text(spec), filename=f"{grammar} (its grammar)")
+        settings = spec.evolution
     else:
         parsed = read_bnf(grammar)
-    wraps = 0 if wraps is None else wraps
-    consume = consume or "eager"
+    wraps = settings.wraps if wraps is None else wraps
+    consume = settings.consume if consume is None else consume
     if genomes is not None:
         batch = [genome for _, genome in _genomes(genomes)]
     elif codons:

@@ -28,16 +28,14 @@ from mazegen.errors import MazeError
 def render(scenario: Path, out: Path, spec: Path | None) -> None:
     """Draw SCENARIO (a scenario JSON file) as SVG or PNG."""
     from mazegen.runtime.render import render_file
-    from mazegen.runtime.scenario import check_complete, completed_document, read_document
+    from mazegen.runtime.scenario import check_complete, completed_document, has_parts, read_document
 
     document = read_document(scenario)
     if spec is not None:
         from mazegen.dsl.loader import load_spec
 
         document = completed_document(load_spec(spec), document, str(scenario))
-    elif "arena" not in document or not all(
-        isinstance(element, dict) and "parts" in element for element in document["elements"]
-    ):
+    elif "arena" not in document or not has_parts(document):
         raise MazeError(
             "the scenario has no arena or no element parts: give --spec SPEC.maze to compute them",
             filename=str(scenario),

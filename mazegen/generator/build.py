@@ -82,15 +82,26 @@ def fitness_lines(spec: Spec) -> tuple[list[TermLine], list[TermLine]]:
     return penalised, rejecting
 
 
+def grammar_text(spec: Spec) -> str:
+    """The ``grammar.bnf`` of ``spec``."""
+    return (
+        _environment()
+        .get_template("grammar.bnf.jinja")
+        .render(rules=scenario_rules(spec), style=spec.scenario.grammar, **_context(spec))
+    )
+
+
+def _context(spec: Spec) -> dict[str, str]:
+    return {"name": spec.name, "version": __version__}
+
+
 def render_artifacts(spec: Spec) -> dict[str, str]:
     """Render every build artifact of ``spec`` as text, keyed by file name."""
     env = _environment()
-    context = {"name": spec.name, "version": __version__}
+    context = _context(spec)
     penalised, rejecting = fitness_lines(spec)
     return {
-        "grammar.bnf": env.get_template("grammar.bnf.jinja").render(
-            rules=scenario_rules(spec), style=spec.scenario.grammar, **context
-        ),
+        "grammar.bnf": grammar_text(spec),
         "fitness.py": env.get_template("fitness.py.jinja").render(
             penalised=penalised, rejecting=rejecting, **context
         ),

@@ -157,6 +157,11 @@ def _points(value: Any, least: int, where: str) -> None:
         raise MazeError(f"{where} must be a list of at least {least} [x, y] points")
 
 
+def has_parts(document: dict[str, Any]) -> bool:
+    """Whether every element of a document (read with :func:`read_document`) carries its world parts."""
+    return all(isinstance(element, dict) and "parts" in element for element in document["elements"])
+
+
 def check_complete(document: dict[str, Any], filename: str) -> None:
     """Check what consumers of a whole document read (read with :func:`read_document` first).
 

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from mazegen.errors import MazeError
-from mazegen.spec import EVOLUTION_BOUNDS, Spec
+from mazegen.spec import EVOLUTION_BOUNDS, Evolution, Spec
 
 Value = int | float
 
@@ -28,10 +28,10 @@ class _Setting:
     bounds: str
 
 
-_WHOLE = ("population", "generations", "genome", "runs", "seed", "elitism", "best", "wraps", "tournament")
 _SETTINGS = {
-    **{name: _Setting(int, *EVOLUTION_BOUNDS[name]) for name in _WHOLE},
-    **{name: _Setting(float, *EVOLUTION_BOUNDS[name]) for name in ("truncation", "crossover", "mutation")},
+    name: _Setting(type(getattr(Evolution(), name)), *bounds)
+    for name, bounds in EVOLUTION_BOUNDS.items()
+    if name != "codon_max"  # the codons' range is the grammar's, not a setting to sweep
 }
 """Evolution settings a sweep may vary, with their bounds (those of the evolution block)."""
 

@@ -13,7 +13,6 @@ import pytest
 from click.testing import CliRunner
 
 from mazegen.cli.main import main
-from mazegen.fileio import FILE_MODE, FOLDER_MODE
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 
@@ -147,11 +146,16 @@ def test_run_files_get_the_modes_the_umask_gives(tmp_path):
     assert run_small(out).exit_code == 0
     picture = tmp_path / "floor.png"
     assert invoke("render", str(out / "run-01" / "best-01.json"), "-o", str(picture)).exit_code == 0
+    # What a plain open and mkdir give, under the same umask.
+    (tmp_path / "plain").mkdir()
+    (tmp_path / "plain" / "file").write_text("")
+    folder_mode, file_mode = (
+        stat.S_IMODE(p.stat().st_mode) for p in (tmp_path / "plain", tmp_path / "plain" / "file")
+    )
     paths = [out, *out.rglob("*"), picture]
     modes = {path.relative_to(tmp_path): stat.S_IMODE(path.stat().st_mode) for path in paths}
-    expected = {path.relative_to(tmp_path): FOLDER_MODE if path.is_dir() else FILE_MODE for path in paths}
+    expected = {path.relative_to(tmp_path): folder_mode if path.is_dir() else file_mode for path in paths}
     assert modes == expected
-    assert FILE_MODE & 0o600 == 0o600 and FOLDER_MODE & 0o700 == 0o700
 
 
 def test_run_refuses_to_overwrite_and_keeps_old_results(tmp_path):

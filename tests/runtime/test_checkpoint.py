@@ -7,21 +7,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-import mazegen
 from mazegen.errors import MazeError
-from mazegen.generator.build import build
 from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointStore, DamagedCheckpoint, read_checkpoint
 from mazegen.runtime.evolution import RunState, evolve
-from mazegen.runtime.problem import Problem
 from mazegen.runtime.worker import run_rng
-from tests.conftest import EXAMPLES
-
-
-@pytest.fixture(scope="module")
-def factory(tmp_path_factory) -> Problem:
-    out = tmp_path_factory.mktemp("factory")
-    build(mazegen.load(EXAMPLES / "factory.maze"), out)
-    return Problem.from_build_dir(out)
 
 
 def without_seconds(stats):

@@ -8,20 +8,11 @@ import numpy as np
 import pytest
 
 import mazegen
-from mazegen.generator.build import build
 from mazegen.runtime.evolution import evolve
-from mazegen.runtime.problem import Problem
 from tests.conftest import EXAMPLES
 from tests.runtime.rundirs import file_digests
 
 ALL_EXAMPLES = sorted(EXAMPLES.glob("*.maze")) + sorted((EXAMPLES / "table1").glob("exp*.maze"))
-
-
-@pytest.fixture(scope="module")
-def factory(tmp_path_factory) -> Problem:
-    out = tmp_path_factory.mktemp("factory")
-    build(mazegen.load(EXAMPLES / "factory.maze"), out)
-    return Problem.from_build_dir(out)
 
 
 def test_population_size_stays_constant_and_best_never_drops(factory):

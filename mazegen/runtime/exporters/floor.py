@@ -25,6 +25,7 @@ from mazegen.runtime.scenario import (
     arena_document,
     check_complete,
     completed_document,
+    has_parts,
     population_from_document,
     read_document,
 )
@@ -165,19 +166,15 @@ def load_floor(path: Path, spec: Spec | None = None) -> Floor:
                     f"the arena of spec '{spec.name}' differs from the scenario's", filename=str(path)
                 )
             spec = None
-    if spec is not None and not (_has_parts(document) and "arena" in document and "path" in document):
+    if spec is not None and not (has_parts(document) and "arena" in document and "path" in document):
         document = completed_document(spec, document, str(path))
-    if not _has_parts(document):
+    if not has_parts(document):
         raise MazeError(
             "the scenario's elements have no 'parts': give --spec SPEC.maze to compute them",
             filename=str(path),
         )
     check_complete(document, str(path))
     return Floor(document, spec, path)
-
-
-def _has_parts(document: dict[str, Any]) -> bool:
-    return all(isinstance(element, dict) and "parts" in element for element in document["elements"])
 
 
 def _found_spec(path: Path, document: dict[str, Any]) -> Spec | None:
