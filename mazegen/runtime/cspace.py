@@ -283,3 +283,39 @@ def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
 def is_free(free, r, c, cols):  # pragma: no cover - compiled
     """Whether cell ``(r, c)`` of the bit rows ``free`` is free; cells outside the grid are not."""
     return 0 <= r < free.shape[0] and 0 <= c < cols and is_set(free[r], c)
+
+
+@njit(cache=True)
+def straight_free(free, cols, cell, points):  # pragma: no cover - compiled
+    """Whether every cell the segment start → goal touches is free (cells walked as in Amanatides and Woo;
+    where it passes exactly through a cell corner, both side cells must be free too)."""
+    rows = free.shape[0]
+    x, y = points[0] / cell, points[1] / cell
+    dx, dy = points[2] / cell - x, points[3] / cell - y
+    c, r = math.floor(x), math.floor(y)
+    end_c, end_r = math.floor(points[2] / cell), math.floor(points[3] / cell)
+    step_c = 1 if dx > 0 else -1
+    step_r = 1 if dy > 0 else -1
+    next_c = ((c + (dx > 0)) - x) / dx if dx != 0 else np.inf
+    next_r = ((r + (dy > 0)) - y) / dy if dy != 0 else np.inf
+    delta_c = abs(1.0 / dx) if dx != 0 else np.inf
+    delta_r = abs(1.0 / dy) if dy != 0 else np.inf
+    for _ in range(rows + cols + 2):
+        if not is_free(free, r, c, cols):
+            return False
+        if r == end_r and c == end_c:
+            return True
+        if next_c < next_r:
+            c += step_c
+            next_c += delta_c
+        elif next_r < next_c:
+            r += step_r
+            next_r += delta_r
+        else:  # through a corner: the two cells beside it as well
+            if not is_free(free, r, c + step_c, cols) or not is_free(free, r + step_r, c, cols):
+                return False
+            c += step_c
+            r += step_r
+            next_c += delta_c
+            next_r += delta_r
+    return False

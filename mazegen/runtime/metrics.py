@@ -49,7 +49,7 @@ def elements_outside(pop: Population) -> np.ndarray:
 
 def unsolvable(pop: Population) -> np.ndarray:
     """1 where a valid scenario has no path from start to goal for the robot, else 0."""
-    return (pop.valid & ~pop.navigation.solvable).astype(np.float64)
+    return (pop.valid & ~pop.reach.solvable).astype(np.float64)
 
 
 def path_length(pop: Population) -> np.ndarray:
@@ -75,7 +75,7 @@ def path_metric(pop: Population, name: str) -> np.ndarray:
 
 def coverage(pop: Population) -> np.ndarray:
     """Fraction of the arena's grid cells the elements occupy."""
-    return pop.navigation.coverage
+    return pop.reach.coverage
 
 
 def closeness(values: np.ndarray, low: float, high: float) -> np.ndarray:

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit, prange
 
-from mazegen.runtime.cspace import Grid, cspace, grid_args, is_free, raster_arrays
+from mazegen.runtime.cspace import Grid, cspace, grid_args, raster_arrays, straight_free
 from mazegen.runtime.rectangles import (
     ABOVE,
     BELOW,
@@ -149,7 +149,7 @@ def route(shapes, ids, count, params, grid, scratch):  # pragma: no cover - comp
     raster, free, rectangles, search, portals, corners = scratch
     occupied = cspace(shapes, ids, count, params, grid, raster, free)
     points = grid[5]
-    if _straight_free(free, grid[2], grid[0], points):  # the shortest path of all: no search
+    if straight_free(free, grid[2], grid[0], points):  # the shortest path of all: no search
         corners[0, 0], corners[0, 1] = points[0], points[1]
         corners[1, 0], corners[1, 1] = points[2], points[3]
         return occupied, True, math.hypot(points[2] - points[0], points[3] - points[1]), 2
@@ -158,42 +158,6 @@ def route(shapes, ids, count, params, grid, scratch):  # pragma: no cover - comp
         return occupied, False, 0.0, 0
     found, total, turns = _shortest(rectangles, nodes, start, goal, grid, search, portals, corners)
     return occupied, found, total, turns
-
-
-@njit(cache=True)
-def _straight_free(free, cols, cell, points):  # pragma: no cover - compiled
-    """Whether every cell the segment start → goal touches is free (cells walked as in Amanatides and Woo;
-    where it passes exactly through a cell corner, both side cells must be free too)."""
-    rows = free.shape[0]
-    x, y = points[0] / cell, points[1] / cell
-    dx, dy = points[2] / cell - x, points[3] / cell - y
-    c, r = math.floor(x), math.floor(y)
-    end_c, end_r = math.floor(points[2] / cell), math.floor(points[3] / cell)
-    step_c = 1 if dx > 0 else -1
-    step_r = 1 if dy > 0 else -1
-    next_c = ((c + (dx > 0)) - x) / dx if dx != 0 else np.inf
-    next_r = ((r + (dy > 0)) - y) / dy if dy != 0 else np.inf
-    delta_c = abs(1.0 / dx) if dx != 0 else np.inf
-    delta_r = abs(1.0 / dy) if dy != 0 else np.inf
-    for _ in range(rows + cols + 2):
-        if not is_free(free, r, c, cols):
-            return False
-        if r == end_r and c == end_c:
-            return True
-        if next_c < next_r:
-            c += step_c
-            next_c += delta_c
-        elif next_r < next_c:
-            r += step_r
-            next_r += delta_r
-        else:  # through a corner: the two cells beside it as well
-            if not is_free(free, r, c + step_c, cols) or not is_free(free, r + step_r, c, cols):
-                return False
-            c += step_c
-            r += step_r
-            next_c += delta_c
-            next_r += delta_r
-    return False
 
 
 @njit(cache=True)

@@ -19,6 +19,7 @@ from numba import njit, prange
 from mazegen.spec import Arena, Spec
 
 if TYPE_CHECKING:
+    from mazegen.runtime.connectivity import Reach
     from mazegen.runtime.difficulty import Survey
     from mazegen.runtime.geometry import ElementTable
     from mazegen.runtime.mapping import PopulationMap
@@ -68,6 +69,17 @@ class Population:
         from mazegen.runtime.navigation import navigate
 
         return self.survey.navigation if self.surveyed else navigate(self, grid_of(self.arena))
+
+    @cached_property
+    def reach(self) -> Reach:
+        """Solvability and coverage of every individual, when first read: the navigation's when it
+        is searched anyway, else found without searching paths."""
+        from mazegen.runtime.connectivity import Reach, reach
+        from mazegen.runtime.cspace import grid_of
+
+        if self.surveyed or "navigation" in self.__dict__:  # the paths are (being) searched
+            return Reach(self.navigation.solvable, self.navigation.coverage)
+        return reach(self, grid_of(self.arena))
 
     @cached_property
     def survey(self) -> Survey:

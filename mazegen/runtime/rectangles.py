@@ -52,34 +52,40 @@ def decompose(free, cols, cells, arrays):  # pragma: no cover - compiled
         (rectangles, start rectangle, goal rectangle); -1 for an end on a blocked cell.
     """
     rects, edges, row_runs = arrays
-    rows, words = free.shape
+    rows = free.shape[0]
     count = 0
     n_edges = 0
     last = 0  # which half of row_runs holds the previous row's runs
     n_last = 0
     start = goal = -1
     for r in range(rows):
-        same = r > 0
-        for w in range(words if r > 0 else 0):
-            if free[r, w] != free[r - 1, w]:
-                same = False
-                break
-        if not same:
+        if not same_as_below(free, r):
             now = 1 - last
-            n_now = _row_runs(free, r, cols, row_runs, now)
+            n_now = row_runs_of(free, r, cols, row_runs, now)
             count, n_edges = _join(row_runs, last, n_last, now, n_now, r, rects, edges, count, n_edges)
             last, n_last = now, n_now
         if r == cells[0]:
-            start = _rectangle_at(row_runs, last, n_last, cells[1])
+            start = run_label_at(row_runs, last, n_last, cells[1])
         if r == cells[2]:
-            goal = _rectangle_at(row_runs, last, n_last, cells[3])
+            goal = run_label_at(row_runs, last, n_last, cells[3])
     for i in range(n_last):
         rects[row_runs[last, i, 2], LAST_ROW] = rows - 1
     return count, start, goal
 
 
 @njit(cache=True, inline="always")
-def _row_runs(free, r, cols, out, slot):  # pragma: no cover - compiled
+def same_as_below(free, r):  # pragma: no cover - compiled
+    """Whether bit row ``r`` equals row ``r - 1`` (False for the first row): its runs are the same."""
+    if r == 0:
+        return False
+    w = 0
+    while w < free.shape[1] and free[r, w] == free[r - 1, w]:
+        w += 1
+    return w == free.shape[1]
+
+
+@njit(cache=True, inline="always")
+def row_runs_of(free, r, cols, out, slot):  # pragma: no cover - compiled
     """Free runs of row ``r`` into ``out[slot, :, :2]``, left to right; returns their number.
 
     A run starts at a set bit whose left neighbour is clear and ends at a set bit whose
@@ -153,7 +159,8 @@ def _join(runs, below, n_below, here, n_here, r, rects, edges, count, n_edges): 
 
 
 @njit(cache=True, inline="always")
-def _rectangle_at(runs, slot, n_runs, c):  # pragma: no cover - compiled
+def run_label_at(runs, slot, n_runs, c):  # pragma: no cover - compiled
+    """The label (``runs[slot, i, 2]``) of the run holding column ``c``, or -1 when ``c`` is blocked."""
     for i in range(n_runs):
         if runs[slot, i, 0] <= c <= runs[slot, i, 1]:
             return runs[slot, i, 2]

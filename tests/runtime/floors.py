@@ -1,10 +1,12 @@
-"""Floors shared by the navigation, difficulty and suite tests: element types, arenas,
-populations built from element lists, and an exact-geometry solvability check."""
+"""Floors shared by the navigation, connectivity, difficulty and suite tests: element types,
+arenas, populations built from element lists, an exact-geometry solvability check, bit rows
+packed from cell grids and a plain breadth-first search over cells."""
 
 from __future__ import annotations
 
 import json
 import math
+from collections import deque
 from pathlib import Path
 
 import numpy as np
@@ -68,3 +70,28 @@ def floor_file(path: Path, *elements: dict) -> Path:
     """Write a hand-drawn scenario document (elements only, no arena) to ``path``."""
     path.write_text(json.dumps({"format": "mazegen-scenario", "version": 1, "elements": list(elements)}))
     return path
+
+
+def pack(free: np.ndarray) -> np.ndarray:
+    """Bit rows of ``uint64`` words from ``bool[rows, cols]`` (padding columns blocked)."""
+    rows, cols = free.shape
+    words = (cols + 63) // 64
+    padded = np.zeros((rows, words * 64), bool)
+    padded[:, :cols] = free
+    return np.packbits(padded, axis=1, bitorder="little").view("<u8").astype(np.uint64)
+
+
+def reachable(free: np.ndarray, start: tuple[int, int], goal: tuple[int, int]) -> bool:
+    """Plain breadth-first search over 4-connected free cells."""
+    if not (free[start] and free[goal]):
+        return False
+    seen, queue = {start}, deque([start])
+    while queue:
+        r, c = queue.popleft()
+        if (r, c) == goal:
+            return True
+        for nr, nc in ((r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)):
+            if 0 <= nr < free.shape[0] and 0 <= nc < free.shape[1] and free[nr, nc] and (nr, nc) not in seen:
+                seen.add((nr, nc))
+                queue.append((nr, nc))
+    return False

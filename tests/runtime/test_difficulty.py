@@ -23,16 +23,7 @@ from mazegen.runtime.difficulty import (
 )
 from mazegen.runtime.navigation import navigate, path_of
 from mazegen.spec import Arena
-from tests.runtime.floors import ARENA, NAMES, population, random_floors
-
-
-def pack(free: np.ndarray) -> np.ndarray:
-    """Bit rows of ``uint64`` words from ``bool[rows, cols]`` (padding columns blocked)."""
-    rows, cols = free.shape
-    words = (cols + 63) // 64
-    padded = np.zeros((rows, words * 64), bool)
-    padded[:, :cols] = free
-    return np.packbits(padded, axis=1, bitorder="little").view("<u8").astype(np.uint64)
+from tests.runtime.floors import ARENA, NAMES, pack, population, random_floors
 
 
 def blocked(free: np.ndarray, r: int, c: int) -> bool:

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections import deque
 
 import numpy as np
 import pytest
@@ -18,7 +17,15 @@ from mazegen.runtime.geometry import world_parts
 from mazegen.runtime.navigation import navigate
 from mazegen.spec import Arena
 from tests.conftest import EXAMPLES
-from tests.runtime.floors import ARENA, NAMES, TABLE, geometrically_solvable, population, random_floors
+from tests.runtime.floors import (
+    ARENA,
+    NAMES,
+    TABLE,
+    geometrically_solvable,
+    population,
+    random_floors,
+    reachable,
+)
 
 
 def test_open_floor_is_a_straight_line():
@@ -108,22 +115,6 @@ def reference_free(arena: Arena, grid: Grid, elements: list[tuple]) -> np.ndarra
     r = arena.robot_radius
     blocked |= (cx < r) | (cx > arena.width - r) | (cy < r) | (cy > arena.height - r)
     return ~blocked
-
-
-def reachable(free: np.ndarray, start: tuple[int, int], goal: tuple[int, int]) -> bool:
-    """Plain breadth-first search over 4-connected free cells."""
-    if not (free[start] and free[goal]):
-        return False
-    seen, queue = {start}, deque([start])
-    while queue:
-        r, c = queue.popleft()
-        if (r, c) == goal:
-            return True
-        for nr, nc in ((r + 1, c), (r - 1, c), (r, c + 1), (r, c - 1)):
-            if 0 <= nr < free.shape[0] and 0 <= nc < free.shape[1] and free[nr, nc] and (nr, nc) not in seen:
-                seen.add((nr, nc))
-                queue.append((nr, nc))
-    return False
 
 
 def test_free_cells_and_solvability_equal_the_reference_on_random_floors():
