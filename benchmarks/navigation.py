@@ -14,7 +14,8 @@ of ``--repeats`` calls after one untimed call, with all numba threads and with o
   arena replaced, the placements decoded again before timing): ``navigate`` (solvability, path
   length, coverage);
 * ``examples/factory.maze``: the full evaluation ``problem.evaluate`` (mapping, decoding and every
-  fitness term; fresh arrays), all threads only: as the spec asks (its terms read solvability, so
+  fitness term, into a workspace kept from call to call as a run's generations do), all threads
+  only: as the spec asks (its terms read solvability, so
   no path is searched) and with every path's length read too, which is what is checked against
   the target of 300,000 evaluations per second;
 * ``examples/workshop.maze``: ``navigate``, and ``survey`` (the path search plus BARN's difficulty
@@ -46,7 +47,7 @@ from mazegen.runtime.cspace import grid_of
 from mazegen.runtime.difficulty import survey
 from mazegen.runtime.navigation import navigate
 from mazegen.runtime.population import Population
-from mazegen.runtime.problem import Problem
+from mazegen.runtime.problem import Problem, Workspace
 
 SPECS = {
     "factory": ROOT / "examples" / "factory.maze",
@@ -80,9 +81,11 @@ def reading_path_length(problem: Problem) -> Problem:
 OPERATIONS: dict[str, Callable[[Problem, Sample, Population], Callable[[], object]]] = {
     "navigate": lambda problem, sample, pop: partial(navigate, pop, grid_of(pop.arena)),
     "survey": lambda problem, sample, pop: partial(survey, pop),
-    "full evaluation": lambda problem, sample, pop: partial(problem.evaluate, sample.codons, sample.genes),
+    "full evaluation": lambda problem, sample, pop: partial(
+        problem.evaluate, sample.codons, sample.genes, Workspace()
+    ),
     "full evaluation + path": lambda problem, sample, pop: partial(
-        reading_path_length(problem).evaluate, sample.codons, sample.genes
+        reading_path_length(problem).evaluate, sample.codons, sample.genes, Workspace()
     ),
 }
 
