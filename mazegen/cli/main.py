@@ -1,44 +1,50 @@
-"""The ``mazegen`` command: one sub-command per module of this package."""
+"""The ``mazegen`` command: one sub-command per module of this package.
+
+A sub-command's module is imported only when that command runs (or help lists
+them all): ``mazegen check`` then loads the language, not numba and the engine.
+"""
 
 from __future__ import annotations
+
+import importlib
 
 import click
 
 from mazegen import __version__
-from mazegen.cli.build import build
-from mazegen.cli.check import check
-from mazegen.cli.export import export
-from mazegen.cli.map import map_command
-from mazegen.cli.render import render
-from mazegen.cli.report import report
-from mazegen.cli.resume import resume
-from mazegen.cli.run import run
-from mazegen.cli.runs import runs
-from mazegen.cli.scenarios import scenarios
-from mazegen.cli.score import score
-from mazegen.cli.suite import suite
-from mazegen.cli.sweep import sweep
+
+COMMANDS = {
+    "check": "check",
+    "build": "build",
+    "run": "run",
+    "resume": "resume",
+    "sweep": "sweep",
+    "runs": "runs",
+    "scenarios": "scenarios",
+    "suite": "suite",
+    "map": "map_command",
+    "score": "score",
+    "render": "render",
+    "export": "export",
+    "report": "report",
+}
+"""Sub-command name -> the click command of that name in module ``mazegen.cli.<name>``."""
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class LazyGroup(click.Group):
+    """A group whose sub-commands are imported when looked up."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if cmd_name not in COMMANDS:
+            return None
+        module = importlib.import_module(f"mazegen.cli.{cmd_name}")
+        command: click.Command = getattr(module, COMMANDS[cmd_name])
+        return command
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="mazegen")
 def main() -> None:
     """Generate robot-navigation test scenarios from .maze specs by grammatical evolution."""
-
-
-for command in (
-    check,
-    build,
-    run,
-    resume,
-    sweep,
-    runs,
-    scenarios,
-    suite,
-    map_command,
-    score,
-    render,
-    export,
-    report,
-):
-    main.add_command(command)

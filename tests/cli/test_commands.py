@@ -40,6 +40,29 @@ def test_check_reports_located_error_without_traceback(write_spec):
     assert "Traceback" not in result.output
 
 
+def test_every_command_is_listed_and_resolves_to_itself():
+    from mazegen.cli.main import COMMANDS
+
+    result = invoke("--help")
+    listed = [line.split()[0] for line in result.output.split("Commands:")[1].splitlines() if line.strip()]
+    assert listed == sorted(COMMANDS)
+    context = main.make_context("mazegen", ["check", "x"])
+    assert all(main.get_command(context, name).name == name for name in COMMANDS)
+    assert main.get_command(context, "nosuch") is None
+
+
+def test_check_loads_the_language_not_the_engine():
+    """``mazegen check`` must stay quick: numba and the runtime are not imported for it."""
+    code = (
+        "import sys\n"
+        "from mazegen.cli.main import main\n"
+        f"main(['check', {str(EXAMPLES / 'factory.maze')!r}], standalone_mode=False)\n"
+        "print(sorted(m for m in ('numba', 'mazegen.runtime') if m in sys.modules))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert done.stdout.splitlines()[-1] == "[]"
+
+
 def test_build_then_map_the_papers_example(tmp_path):
     out = tmp_path / "build"
     assert invoke("build", str(EXAMPLES / "mazegen1.maze"), "-o", str(out)).exit_code == 0
