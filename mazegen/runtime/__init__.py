@@ -5,6 +5,7 @@ The runtime never imports textX: a Spec is plain data.
 
 import hashlib
 import os
+import shutil
 from pathlib import Path
 
 import numba
@@ -28,5 +29,26 @@ def _kernel_cache_dir(sources: Path = Path(__file__).parent) -> Path:
     return root / "mazegen" / "numba" / digest.hexdigest()[:16]
 
 
+KEPT_KERNEL_CACHES = 3
+"""Kernel cache folders kept: the one in use and the most recently used others (upgrades
+and edits each start a fresh one of about 10 MB)."""
+
+
+def prune_kernel_caches(current: Path, keep: int = KEPT_KERNEL_CACHES) -> None:
+    """Mark ``current`` as used now and delete all but the ``keep`` most recently used kernel
+    cache folders beside it. Best effort: a folder another process holds or removes is skipped."""
+    try:
+        current.mkdir(parents=True, exist_ok=True)
+        os.utime(current)
+        others = [folder for folder in current.parent.iterdir() if folder.is_dir() and folder != current]
+        others.sort(key=lambda folder: folder.stat().st_mtime, reverse=True)
+    except OSError:
+        return
+    for stale in others[max(keep - 1, 0) :]:
+        shutil.rmtree(stale, ignore_errors=True)
+
+
 if not os.environ.get("NUMBA_CACHE_DIR"):  # a folder the user chose wins
-    numba.config.CACHE_DIR = str(_kernel_cache_dir())  # type: ignore[attr-defined]  # set at import by numba
+    _cache = _kernel_cache_dir()
+    prune_kernel_caches(_cache)
+    numba.config.CACHE_DIR = str(_cache)  # type: ignore[attr-defined]  # set at import by numba

@@ -49,3 +49,20 @@ def test_an_edit_to_any_kernel_file_starts_a_fresh_cache(tmp_path):
     rectangles = copy / "rectangles.py"
     rectangles.write_text(rectangles.read_text() + "\n# edited\n")
     assert _kernel_cache_dir(copy) != before
+
+
+def test_only_the_most_recently_used_caches_are_kept(tmp_path):
+    from mazegen.runtime import KEPT_KERNEL_CACHES, prune_kernel_caches
+
+    folders = [tmp_path / f"{age:016x}" for age in range(6)]  # folder 0 used last, folder 5 first
+    for age, folder in enumerate(folders):
+        (folder / "index").mkdir(parents=True)
+        os.utime(folder, (1e9 - age * 1e5, 1e9 - age * 1e5))
+    current = tmp_path / "ffffffffffffffff"
+    prune_kernel_caches(current)
+    kept = sorted(folder.name for folder in tmp_path.iterdir())
+    assert kept == sorted([current.name, *(f.name for f in folders[: KEPT_KERNEL_CACHES - 1])])
+    prune_kernel_caches(folders[0])  # an older version used again: the newest two others stay
+    assert sorted(folder.name for folder in tmp_path.iterdir()) == kept
+    prune_kernel_caches(folders[5])  # a version whose folder went comes back to a fresh one
+    assert folders[5].is_dir() and current.is_dir() and folders[0].is_dir() and not folders[1].exists()
