@@ -27,7 +27,7 @@ COMMANDS = {
     "export": "export",
     "report": "report",
 }
-"""Sub-command name -> the click command of that name in module ``mazegen.cli.<name>``."""
+"""Sub-command name -> the name of its click command in module ``mazegen.cli.<sub-command>``."""
 
 
 class LazyGroup(click.Group):
