@@ -34,9 +34,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit, prange
 
-from mazegen.runtime.bits import ALL, ONE, lowest_bit
+from mazegen.runtime.bits import ONE
 from mazegen.runtime.cspace import grid_args, grid_of, is_free, point_grid_of
 from mazegen.runtime.navigation import Navigation, kernel_args, route, route_scratch
+from mazegen.runtime.rectangles import row_runs_of
 from mazegen.spec import PATH_METRICS
 
 if TYPE_CHECKING:
@@ -55,7 +56,7 @@ RAYS16 = np.array(
     ],
     np.int64,
 )  # fmt: skip
-"""The 16 dispersion rays as (row step, column step), in angular order."""
+"""The 16 dispersion rays as (row step, column step), in angular order: ray ``2 d`` is ``KING[d]``."""
 
 
 @dataclass(frozen=True)
@@ -158,6 +159,7 @@ def _survey_all(  # pragma: no cover - compiled
     for block in prange(blocks):
         scratch = route_scratch(shapes, ids.shape[1], grid)
         cells = np.zeros((rows * cols, 2), np.int64)  # path_cells stops when it is full
+        steps = step_arrays(rows, cols)
         for i in range(block * n // blocks, (block + 1) * n // blocks):
             if not valid[i]:
                 continue
@@ -169,7 +171,8 @@ def _survey_all(  # pragma: no cover - compiled
             length[i] = total
             free = scratch[1]
             count = path_cells(scratch[5], turns, free, grid[0], cols, cells)
-            _path_metrics(free, cols, cells, count, reach, grid[0], table[i])
+            fill_free_steps(free, cols, steps)
+            _path_metrics(free, cols, steps, cells, count, reach, grid[0], table[i])
             # The robot's scratch serves the point: same cells, and no wider dilation padding.
             _, point_found, point_total, _ = route(shapes, ids[i], n_el[i], params[i], point_grid, scratch)
             # The robot's path is a path for a point too: the point's is the shorter of the two.
@@ -221,23 +224,25 @@ def _free_cell_at(free, x, y, cols):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _path_metrics(free, cols, cells, count, reach, cell, out):  # pragma: no cover - compiled
-    """Write the per-cell metrics' averages over the ``count`` path cells into ``out``."""
+def _path_metrics(free, cols, arrays, cells, count, reach, cell, out):  # pragma: no cover - compiled
+    """Write the per-cell metrics' averages over the ``count`` path cells into ``out``
+    (``arrays`` as :func:`fill_free_steps` leaves them for ``free``)."""
     if count == 0:
         return
+    steps = arrays[1]
     clearance = visibility = dispersion = dimension = 0.0
     narrowest = np.inf
     rays = np.zeros(8)
     for k in range(count):
         r, c = cells[k, 0], cells[k, 1]
-        clearance += math.sqrt(closest_blocked(free, r, c, cols))
+        clearance += math.sqrt(closest_blocked(arrays, r, c))
         for d in range(8):
-            rays[d] = ray_length(free, r, c, KING[d, 0], KING[d, 1], cols)
+            rays[d] = steps[d, r + 1, c + 1] * math.sqrt(KING[d, 0] * KING[d, 0] + KING[d, 1] * KING[d, 1])
         visibility += rays.sum() / 8.0
         width = min(rays[0] + rays[4], rays[1] + rays[5], rays[2] + rays[6], rays[3] + rays[7])
         dimension += width
         narrowest = min(narrowest, width)
-        dispersion += cell_dispersion(free, r, c, reach, cols)
+        dispersion += cell_dispersion(free, steps, r, c, reach, cols)
     out[0] = clearance / count * cell
     out[1] = visibility / count * cell
     out[2] = dispersion / count
@@ -246,82 +251,90 @@ def _path_metrics(free, cols, cells, count, reach, cell, out):  # pragma: no cov
 
 
 @njit(cache=True)
-def ray_length(free, r, c, dr, dc, cols):  # pragma: no cover - compiled
-    """Free length, in cells, from cell ``(r, c)`` along ``(dr, dc)`` before the first blocked cell."""
-    steps = 0
-    while is_free(free, r + (steps + 1) * dr, c + (steps + 1) * dc, cols):
-        steps += 1
-    return steps * math.sqrt(dr * dr + dc * dc)
+def step_arrays(rows, cols):  # pragma: no cover - compiled
+    """Scratch of :func:`fill_free_steps` on a ``rows`` x ``cols`` grid (a ring of blocked cells
+    around it, so no step needs a bounds test; the ring is never written)."""
+    return (
+        np.zeros((rows + 2, cols + 2), np.int32),  # 1 on free cells
+        np.zeros((8, rows + 2, cols + 2), np.int32),  # free steps along each king direction
+        np.zeros((1, cols // 2 + 1, 3), np.int64),  # one row's runs
+    )
 
 
 @njit(cache=True)
-def cell_dispersion(free, r, c, reach, cols):  # pragma: no cover - compiled
-    """Alternations between rays that meet a blocked cell within ``reach`` cells and rays that do not."""
-    hits = np.zeros(16, np.bool_)
+def fill_free_steps(free, cols, arrays):  # pragma: no cover - compiled
+    """For every cell ``(r, c)`` and king direction ``d``, the free cells stepped over from it along
+    ``KING[d]`` before the first blocked one (cells outside the grid are blocked), into
+    ``arrays[1][d, r + 1, c + 1]``: each ray of the metrics is then one look-up.
+
+    Along a row the steps are read off each run's ends; across rows each row follows from
+    the row it steps into, a whole row at a time.
+    """
+    is_open, steps, runs = arrays
+    rows = free.shape[0]
+    # (Slices rather than offset indices: indices the compiler knows are not negative spare it
+    # the wrap-around test that would keep these loops from being vectorised.)
+    for r in range(rows):
+        for w in range(free.shape[1]):
+            x = free[r, w]
+            cells = is_open[r + 1, 1 + 64 * w : 1 + min(64 * (w + 1), cols)]
+            for b in range(cells.shape[0]):
+                cells[b] = (x >> np.uint64(b)) & ONE
+        for j in range(row_runs_of(free, r, cols, runs, 0)):
+            lo, hi = runs[0, j, 0], runs[0, j, 1]
+            right = steps[0, r + 1, lo + 1 : hi + 2]
+            left = steps[4, r + 1, lo + 1 : hi + 2]
+            for c in range(hi - lo + 1):
+                right[c] = hi - lo - c
+                left[c] = c
+    for d in (1, 2, 3, 5, 6, 7):
+        dr, dc = KING[d, 0], KING[d, 1]
+        for k in range(rows):
+            here = rows - k if dr > 0 else k + 1  # the row it steps into comes first
+            into = steps[d, here, 1 : cols + 1]
+            ahead = steps[d, here + dr, 1 + dc : cols + 1 + dc]
+            opened = is_open[here + dr, 1 + dc : cols + 1 + dc]
+            for c in range(cols):
+                into[c] = opened[c] * (ahead[c] + 1)
+
+
+@njit(cache=True)
+def cell_dispersion(free, steps, r, c, reach, cols):  # pragma: no cover - compiled
+    """Alternations between rays that meet a blocked cell within ``reach`` cells and rays that do not
+    (``steps`` as :func:`fill_free_steps` leaves them: the king rays' first blocked cells)."""
+    hits = 0  # bit d: ray d meets a blocked cell (a bit set, not an array: no allocation per cell)
     for d in range(16):
         dr, dc = RAYS16[d, 0], RAYS16[d, 1]
         step = math.sqrt(dr * dr + dc * dc)
+        if d % 2 == 0:  # a king move: its first blocked cell is known
+            hits |= ((steps[d // 2, r + 1, c + 1] + 1) * step <= reach + 1e-9) << d
+            continue
         k = 1
         while k * step <= reach + 1e-9:
             if not is_free(free, r + k * dr, c + k * dc, cols):
-                hits[d] = True
+                hits |= 1 << d
                 break
             k += 1
     changes = 0
     for d in range(16):
-        changes += hits[d] != hits[(d + 1) % 16]
+        changes += ((hits >> d) ^ (hits >> ((d + 1) % 16))) & 1
     return changes
 
 
 @njit(cache=True)
-def closest_blocked(free, r, c, cols):  # pragma: no cover - compiled
-    """Squared distance, in cells, from cell ``(r, c)`` to the nearest blocked cell (outside counts)."""
+def closest_blocked(arrays, r, c):  # pragma: no cover - compiled
+    """Squared distance, in cells, from cell ``(r, c)`` to the nearest blocked cell (outside counts),
+    ``arrays`` as :func:`fill_free_steps` leaves them.
+
+    Rows are searched outwards while they can hold a nearer one; in each, the nearest blocked
+    cell is the cell itself or the first one its row's rays meet.
+    """
+    is_open, steps = arrays[0], arrays[1]
     best = np.inf
     dy = 0
     while dy * dy < best:
-        for row in (r - dy, r + dy):
-            if row < 0 or row >= free.shape[0]:
-                best = min(best, float(dy * dy))
-                continue
-            right = _blocked_at_or_after(free[row], c, cols) - c
-            left = c - _blocked_at_or_before(free[row], c)
-            dx = min(left, right)
+        for row in (r - dy + 1, r + dy + 1):  # padded rows: the ring outside the grid is blocked
+            dx = min(steps[0, row, c + 1], steps[4, row, c + 1]) + 1 if is_open[row, c + 1] else 0
             best = min(best, float(dy * dy + dx * dx))
         dy += 1
     return best
-
-
-@njit(cache=True, inline="always")
-def _blocked_at_or_after(row, c, cols):  # pragma: no cover - compiled
-    """First blocked column ≥ ``c`` of a bit row of free cells (``cols`` when none is)."""
-    w = c >> 6
-    blocked = ~row[w] & (ALL << np.uint64(c & 63))
-    while True:
-        if blocked:
-            return min(64 * w + lowest_bit(blocked), cols)
-        w += 1
-        if w == row.shape[0]:
-            return cols
-        blocked = ~row[w]
-
-
-@njit(cache=True, inline="always")
-def _blocked_at_or_before(row, c):  # pragma: no cover - compiled
-    """Last blocked column ≤ ``c`` of a bit row of free cells (-1 when none is)."""
-    w = c >> 6
-    blocked = ~row[w] & (ALL >> np.uint64(63 - (c & 63)))
-    while True:
-        if blocked:
-            return 64 * w + _highest_bit(blocked)
-        w -= 1
-        if w < 0:
-            return -1
-        blocked = ~row[w]
-
-
-@njit(cache=True, inline="always")
-def _highest_bit(x):  # pragma: no cover - compiled
-    """Index of the highest set bit of a non-zero ``uint64``."""
-    for shift in (1, 2, 4, 8, 16, 32):
-        x |= x >> np.uint64(shift)
-    return lowest_bit((x >> ONE) + ONE)

@@ -17,8 +17,9 @@ from mazegen.runtime.difficulty import (
     RAYS16,
     cell_dispersion,
     closest_blocked,
+    fill_free_steps,
     path_cells,
-    ray_length,
+    step_arrays,
     survey,
 )
 from mazegen.runtime.navigation import navigate, path_of
@@ -57,15 +58,20 @@ def reference_dispersion(free: np.ndarray, r: int, c: int, reach: float) -> int:
 @pytest.mark.parametrize(("rows", "cols", "density"), [(23, 40, 0.2), (31, 150, 0.08), (12, 64, 0.4)])
 def test_cell_kernels_equal_plain_references_on_random_grids(rows, cols, density):
     rng = np.random.default_rng(rows * cols)
+    arrays = step_arrays(rows, cols)
+    fill_free_steps(pack(rng.random((rows, cols)) > 0.5), cols, arrays)  # a previous floor's leftovers
     free = rng.random((rows, cols)) > density
     bits = pack(free)
     assert np.array_equal(unpack(bits, cols), free)
+    fill_free_steps(bits, cols, arrays)
+    steps = arrays[1]
     for r, c in zip(*np.nonzero(free)):
-        assert closest_blocked(bits, r, c, cols) == reference_closest(free, r, c), (r, c)
-        for dr, dc in KING:
-            assert ray_length(bits, r, c, dr, dc, cols) == pytest.approx(reference_ray(free, r, c, dr, dc))
+        assert closest_blocked(arrays, r, c) == reference_closest(free, r, c), (r, c)
+        for d, (dr, dc) in enumerate(KING):
+            ray = steps[d, r + 1, c + 1] * math.hypot(dr, dc)
+            assert ray == pytest.approx(reference_ray(free, r, c, dr, dc)), (r, c, d)
         for reach in (1.0, 3.0, 4.5):
-            assert cell_dispersion(bits, r, c, reach, cols) == reference_dispersion(free, r, c, reach)
+            assert cell_dispersion(bits, steps, r, c, reach, cols) == reference_dispersion(free, r, c, reach)
 
 
 def on_free_cells(free: np.ndarray, cell: float, x: float, y: float) -> bool:
