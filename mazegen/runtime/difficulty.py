@@ -327,7 +327,7 @@ def closest_blocked(arrays, r, c):  # pragma: no cover - compiled
     ``arrays`` as :func:`fill_free_steps` leaves them.
 
     Rows are searched outwards while they can hold a nearer one; in each, the nearest blocked
-    cell is the cell itself or the first one its row's rays meet.
+    cell is the one in column ``c`` or the first one met going left or right from it.
     """
     is_open, steps = arrays[0], arrays[1]
     best = np.inf
