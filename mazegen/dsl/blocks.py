@@ -230,6 +230,15 @@ def _target(term: Any) -> tuple[float, float] | None:
     return (float(span.low), float(span.high))
 
 
+def _bounded(node: Any, key: str, value: Any, label: str) -> Any:
+    """``value`` of evolution setting ``key``, failing at ``node`` when it is out of its bounds."""
+    problem = out_of_bounds(key, value)
+    if problem is not None:
+        shown = f"{value:g}" if isinstance(value, float) else str(value)
+        fail(node, f"{label} {problem}, got {shown}")
+    return value
+
+
 def convert_evolution(decl: Any | None) -> Evolution:
     """Check the ``evolution`` block against the bounds each setting must respect."""
     if decl is None:
@@ -238,30 +247,18 @@ def convert_evolution(decl: Any | None) -> Evolution:
     values: dict[str, Any] = {}
     for key in ("population", "generations", "genome", "elitism", "runs", "seed", "wraps", "best"):
         if key in props:
-            value = props[key].value
-            problem = out_of_bounds(key, value)
-            if problem is not None:
-                fail(props[key], f"{key} {problem}, got {value}")
-            values[key] = value
+            values[key] = _bounded(props[key], key, props[key].value, key)
     for key in ("crossover", "mutation"):
         if key in props:
-            rate = props[key].value
-            problem = out_of_bounds(key, rate)
-            if problem is not None:
-                fail(props[key], f"{key} rate {problem}, got {rate:g}")
-            values[key] = rate
+            values[key] = _bounded(props[key], key, props[key].value, f"{key} rate")
     selection = props.get("SelectionSetting")
     if selection is not None:
         if selection.tournament is not None:
-            problem = out_of_bounds("tournament", selection.tournament)
-            if problem is not None:
-                fail(selection, f"tournament size {problem}, got {selection.tournament}")
-            values.update(selection="tournament", tournament=selection.tournament)
+            size = _bounded(selection, "tournament", selection.tournament, "tournament size")
+            values.update(selection="tournament", tournament=size)
         else:
-            problem = out_of_bounds("truncation", selection.fraction)
-            if problem is not None:
-                fail(selection, f"selection {problem}, got {selection.fraction:g}")
-            values.update(selection="truncation", truncation=selection.fraction)
+            fraction = _bounded(selection, "truncation", selection.fraction, "selection")
+            values.update(selection="truncation", truncation=fraction)
     if "CodonSetting" in props:
         codons = props["CodonSetting"].range
         if codons.low != 0 or codons.high < 1 or codons.step is not None:

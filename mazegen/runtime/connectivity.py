@@ -24,7 +24,7 @@ from numba import njit, prange
 
 from mazegen.runtime.cspace import Grid, cspace, grid_args, raster_arrays, straight_free
 from mazegen.runtime.navigation import kernel_args
-from mazegen.runtime.rectangles import row_runs_of, run_label_at, same_as_below
+from mazegen.runtime.rectangles import row_runs_of, run_arrays, run_label_at, runs_per_row, same_as_below
 
 if TYPE_CHECKING:
     from mazegen.runtime.population import Population
@@ -75,8 +75,7 @@ def _reach_all(shapes, ids, n_el, params, valid, grid, blocks, solvable, coverag
 @njit(cache=True)
 def component_arrays(rows, cols):  # pragma: no cover - compiled
     """Scratch of :func:`connected` on a ``rows`` x ``cols`` grid: two rows' runs, and the union-find."""
-    row_runs = cols // 2 + 1  # free runs one row can hold
-    return np.zeros((2, row_runs, 3), np.int64), np.zeros(rows * row_runs, np.int64)
+    return run_arrays(2, cols), np.zeros(rows * runs_per_row(cols), np.int64)
 
 
 @njit(cache=True)

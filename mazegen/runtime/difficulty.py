@@ -37,7 +37,7 @@ from numba import njit, prange
 from mazegen.runtime.bits import ONE
 from mazegen.runtime.cspace import grid_args, grid_of, is_free, point_grid_of
 from mazegen.runtime.navigation import Navigation, kernel_args, route, route_scratch
-from mazegen.runtime.rectangles import row_runs_of
+from mazegen.runtime.rectangles import row_runs_of, run_arrays
 from mazegen.spec import PATH_METRICS
 
 if TYPE_CHECKING:
@@ -257,7 +257,7 @@ def step_arrays(rows, cols):  # pragma: no cover - compiled
     return (
         np.zeros((rows + 2, cols + 2), np.int32),  # 1 on free cells
         np.zeros((8, rows + 2, cols + 2), np.int32),  # free steps along each king direction
-        np.zeros((1, cols // 2 + 1, 3), np.int64),  # one row's runs
+        run_arrays(1, cols),  # one row's runs
     )
 
 

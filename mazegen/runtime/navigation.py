@@ -40,6 +40,7 @@ from mazegen.runtime.rectangles import (
     UP_FIRST,
     decompose,
     rectangle_arrays,
+    runs_per_row,
 )
 
 if TYPE_CHECKING:
@@ -128,7 +129,7 @@ def _navigate_all(
 def route_scratch(shapes, slots, grid):  # pragma: no cover - compiled
     """Scratch arrays of :func:`route` for one thread: raster, free rows, rectangles and search."""
     rows, cols, border = grid[1], grid[2], grid[4]
-    capacity = rows * (cols // 2 + 1)
+    capacity = rows * runs_per_row(cols)
     return (
         raster_arrays(grid, slots, shapes[2].shape[1], shapes[2].shape[2]),
         np.zeros((rows, border.shape[1]), np.uint64),  # free cells

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import importlib.util
 import sys
-from collections.abc import Iterator
+import traceback
 from dataclasses import dataclass
 from pathlib import Path
-from types import ModuleType, TracebackType
+from types import ModuleType
 from typing import Any
 
 import numpy as np
@@ -199,18 +199,12 @@ def _call_fitness(module: ModuleType, name: str, population: Population) -> Any:
         return getattr(module, name)(population)
     except Exception as error:
         lines = [
-            tb.tb_lineno
-            for tb in _frames(error.__traceback__)
-            if tb.tb_frame.f_code.co_filename == module.__file__
+            line
+            for frame, line in traceback.walk_tb(error.__traceback__)
+            if frame.f_code.co_filename == module.__file__
         ]
         if not lines:
             raise
         raise MazeError(
             f"{name}(pop) raised {type(error).__name__}: {error}", filename="fitness.py", line=lines[-1]
         ) from None
-
-
-def _frames(tb: TracebackType | None) -> Iterator[TracebackType]:
-    while tb is not None:
-        yield tb
-        tb = tb.tb_next

@@ -25,16 +25,27 @@ UP_FIRST, UP_COUNT, DOWN_FIRST, DOWN_COUNT = 4, 5, 6, 7
 BELOW, ABOVE = 0, 1
 
 
+@njit(cache=True, inline="always")
+def runs_per_row(cols):  # pragma: no cover - compiled
+    """The most free runs a row of ``cols`` cells can hold (free and blocked cells alternating)."""
+    return cols // 2 + 1
+
+
+@njit(cache=True)
+def run_arrays(kept, cols):  # pragma: no cover - compiled
+    """The runs of ``kept`` rows, as :func:`row_runs_of` writes them: first column, last column, label."""
+    return np.zeros((kept, runs_per_row(cols), 3), np.int64)
+
+
 @njit(cache=True)
 def rectangle_arrays(rows, cols):  # pragma: no cover - compiled
     """Scratch of one decomposition of a ``rows`` x ``cols`` grid."""
-    row_runs = cols // 2 + 1  # free runs one row can hold
-    capacity = rows * row_runs
+    capacity = rows * runs_per_row(cols)
     # One row per rectangle and few arrays: the search that reads them keeps more in registers.
     return (
         np.zeros((capacity, 8), np.int64),  # rectangles: extent, then first and count of edges up and down
-        np.zeros((rows * 2 * row_runs + 1, 2), np.int64),  # edges: (rectangle below, rectangle above)
-        np.zeros((2, row_runs, 3), np.int64),  # runs of two rows: first column, last column, rectangle
+        np.zeros((2 * capacity + 1, 2), np.int64),  # edges: (rectangle below, rectangle above)
+        run_arrays(2, cols),  # runs of two rows, labelled with their rectangles
     )
 
 
