@@ -22,7 +22,7 @@ import numpy as np
 from numba import njit
 
 from mazegen.runtime.bits import HIGH, ONE, is_set, popcount, set_block
-from mazegen.runtime.geometry import _world_element
+from mazegen.runtime.geometry import world_element
 
 if TYPE_CHECKING:
     from mazegen.runtime.population import Population
@@ -190,7 +190,7 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     inside[:] = 0
     for k in range(count):
         e = ids[k]
-        _world_element(shapes, e, params[k], wv, pbox, ebox, k)
+        world_element(shapes, e, params[k], wv, pbox, ebox, k)
         for p in range(n_parts[e]):
             _mark_part(wv, k, p, n_vertices[e, p], pbox[k, p], cell, rows, cols, occupied)
     occupied_cells = 0

@@ -1,4 +1,4 @@
-"""Geometry kernels over whole populations: element overlaps and arena containment.
+"""Where elements are: the element table and world transforms of whole populations.
 
 A population of ``N`` individuals with at most ``K`` elements each is stored as
 
@@ -11,7 +11,8 @@ A population of ``N`` individuals with at most ``K`` elements each is stored as
 A part vertex in the world is ``R(theta) · (u · (sx, sy) + o) + (x, y)`` (see
 :mod:`mazegen.spec`). The kernels run in parallel over blocks of individuals;
 each block owns a scratch buffer for the world vertices of one individual, so
-nothing of size N×K×P×V is ever built.
+nothing of size N×K×P×V is ever built. :mod:`mazegen.runtime.overlap` counts
+overlaps and elements outside the arena with these transforms.
 """
 
 from __future__ import annotations
@@ -73,88 +74,18 @@ class ElementTable:
         return self.n_parts, self.n_vertices, self.unit, self.offset
 
 
-def overlapping_pairs(
-    table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray, params: np.ndarray
-) -> np.ndarray:
-    """Count, per individual, the element pairs whose interiors intersect.
-
-    Two elements overlap when any part of one overlaps any part of the other
-    (exact separating-axis test); touching boundaries do not count.
-
-    Args:
-        table: Parts of the element types.
-        element_ids: int32[N, K] type ids, -1 padding.
-        n_elements: int32[N] used entries per individual.
-        params: float64[N, K, 5] ``(x, y, sx, sy, theta)``.
-
-    Returns:
-        int32[N] pair counts.
-
-    Raises:
-        ValueError: If the arrays' shapes, counts or ids are inconsistent.
-    """
-    ids, n_el, prm = _population(table, element_ids, n_elements, params)
-    out = np.zeros(ids.shape[0], np.int32)
-    if ids.shape[0]:
-        _overlap_kernel(
-            table.shapes,
-            table.unit_radius,
-            table.offset_radius,
-            ids,
-            n_el,
-            prm,
-            _blocks(ids.shape[0]),
-            out,
-        )
-    return out
-
-
-def elements_outside(
-    table: ElementTable,
-    element_ids: np.ndarray,
-    n_elements: np.ndarray,
-    params: np.ndarray,
-    width: float,
-    height: float,
-) -> np.ndarray:
-    """Count, per individual, the elements with a vertex outside ``[0, width] × [0, height]``.
-
-    A vertex on the boundary is inside. Arguments are as for
-    :func:`overlapping_pairs`, plus the arena size.
-
-    Returns:
-        int32[N] element counts.
-    """
-    ids, n_el, prm = _population(table, element_ids, n_elements, params)
-    out = np.zeros(ids.shape[0], np.int32)
-    if ids.shape[0]:
-        _outside_kernel(
-            table.shapes,
-            table.unit_radius,
-            table.offset_radius,
-            ids,
-            n_el,
-            prm,
-            float(width),
-            float(height),
-            _blocks(ids.shape[0]),
-            out,
-        )
-    return out
-
-
 def element_bounds(
     table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray, params: np.ndarray
 ) -> np.ndarray:
-    """World bounding boxes of every element (arguments as for :func:`overlapping_pairs`).
+    """World bounding boxes of every element (arrays as in this module's doc).
 
     Returns:
         float64[N, K, 4] as ``(xmin, ymin, xmax, ymax)``, NaN for padding.
     """
-    ids, n_el, prm = _population(table, element_ids, n_elements, params)
+    ids, n_el, prm = population_arrays(table, element_ids, n_elements, params)
     out = np.full((*ids.shape, 4), np.nan)
     if ids.shape[0]:
-        _bounds_kernel(table.shapes, ids, n_el, prm, _blocks(ids.shape[0]), out)
+        _bounds_kernel(table.shapes, ids, n_el, prm, blocks_for(ids.shape[0]), out)
     return out
 
 
@@ -190,10 +121,10 @@ def _world_elements(shapes, ids, params, wv):  # pragma: no cover - compiled
     pbox = np.empty((ids.shape[0], wv.shape[1], 4))
     ebox = np.empty((ids.shape[0], 4))
     for k in range(ids.shape[0]):
-        _world_element(shapes, ids[k], params[k], wv, pbox, ebox, k)
+        world_element(shapes, ids[k], params[k], wv, pbox, ebox, k)
 
 
-def _population(
+def population_arrays(
     table: ElementTable, element_ids: np.ndarray, n_elements: np.ndarray, params: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Check the population arrays and return them contiguous with the kernels' dtypes."""
@@ -213,7 +144,7 @@ def _population(
     return ids, n_el, prm
 
 
-def _blocks(n: int) -> int:
+def blocks_for(n: int) -> int:
     """Blocks of individuals: a few per thread so uneven blocks balance out."""
     return min(n, 4 * numba.get_num_threads())
 
@@ -281,18 +212,8 @@ def _sincos(x):
     return s, c
 
 
-# Widens bounding circles so that rounding never puts a vertex outside one.
-_REACH_MARGIN = 1.0 + 1e-9
-
-
 @njit(cache=True, inline="always")
-def _reach(unit_radius, offset_radius, e, sx, sy):
-    """Radius around its position that contains element type ``e`` at scale ``(sx, sy)``."""
-    return (unit_radius[e] * max(sx, sy) + offset_radius[e]) * _REACH_MARGIN
-
-
-@njit(cache=True, inline="always")
-def _world_element(shapes, e, row, wv, pbox, ebox, k):
+def world_element(shapes, e, row, wv, pbox, ebox, k):
     """Write element ``e``'s world vertices, part boxes and box to ``wv[k]``, ``pbox[k]``, ``ebox[k]``.
 
     ``shapes`` is :attr:`ElementTable.shapes`; ``row`` holds the element's x, y, sx, sy
@@ -335,112 +256,6 @@ def _world_element(shapes, e, row, wv, pbox, ebox, k):
     ebox[k, 3] = eymax
 
 
-@njit(cache=True, inline="always")
-def _boxes_meet(box, a, b):
-    """True if two boxes' interiors intersect (touching boxes do not meet).
-
-    Non-short-circuit ``&``: random boxes make the branches of ``and``
-    unpredictable, which cost more than the comparisons.
-    """
-    return (
-        (box[a, 0] < box[b, 2]) & (box[b, 0] < box[a, 2]) & (box[a, 1] < box[b, 3]) & (box[b, 1] < box[a, 3])
-    )
-
-
-@njit(cache=True, inline="always")
-def _edge_separates(wv, ka, pa, na, kb, pb, nb):
-    """True if some edge line of convex CCW polygon A has all of B on its outer side.
-
-    For convex polygons this one-sided test over the edges of A and of B is the
-    full separating-axis test: A's projection on an outward edge normal ends at
-    that edge. A vertex exactly on the line counts as outside, so touching
-    polygons are separated.
-    """
-    for i in range(na):
-        j = i + 1 if i + 1 < na else 0
-        x0 = wv[ka, pa, i, 0]
-        y0 = wv[ka, pa, i, 1]
-        nx = wv[ka, pa, j, 1] - y0  # outward normal of a CCW edge: (ey, -ex)
-        ny = x0 - wv[ka, pa, j, 0]
-        # A full min (no break) keeps the inner loop free of unpredictable branches.
-        lowest = np.inf
-        for v in range(nb):
-            lowest = min(lowest, (wv[kb, pb, v, 0] - x0) * nx + (wv[kb, pb, v, 1] - y0) * ny)
-        if lowest >= 0.0:
-            return True
-    return False
-
-
-@njit(cache=True, inline="always")
-def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox):
-    """True if some part of element ``a`` (type ``ea``) overlaps some part of ``b`` (type ``eb``)."""
-    for pa in range(n_parts[ea]):
-        # A part clear of b's whole box meets none of b's parts (bars of figures often are).
-        if not (
-            (pbox[a, pa, 0] < ebox[b, 2])
-            & (ebox[b, 0] < pbox[a, pa, 2])
-            & (pbox[a, pa, 1] < ebox[b, 3])
-            & (ebox[b, 1] < pbox[a, pa, 3])
-        ):
-            continue
-        for pb in range(n_parts[eb]):
-            if not (
-                (pbox[a, pa, 0] < pbox[b, pb, 2])
-                & (pbox[b, pb, 0] < pbox[a, pa, 2])
-                & (pbox[a, pa, 1] < pbox[b, pb, 3])
-                & (pbox[b, pb, 1] < pbox[a, pa, 3])
-            ):
-                continue
-            na = n_vertices[ea, pa]
-            nb = n_vertices[eb, pb]
-            if not (_edge_separates(wv, a, pa, na, b, pb, nb) or _edge_separates(wv, b, pb, nb, a, pa, na)):
-                return True
-    return False
-
-
-@njit(parallel=True, cache=True)
-def _overlap_kernel(shapes, unit_radius, offset_radius, ids, n_el, params, n_blocks, out):
-    n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
-    n, k_max = ids.shape
-    for block in prange(n_blocks):
-        wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
-        pbox = np.empty((k_max, unit.shape[1], 4))
-        ebox = np.empty((k_max, 4))
-        radius = np.empty(k_max)
-        placed = np.empty(k_max, np.bool_)
-        pairs = np.empty((k_max * (k_max - 1) // 2, 2), np.int64)
-        for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
-            m = n_el[i]
-            for k in range(m):
-                radius[k] = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
-                placed[k] = False
-            # Bounding circles need no trigonometry, so elements far from all
-            # others are never transformed. Candidates are collected without a
-            # branch: few circles meet, at random.
-            n_pairs = 0
-            for a in range(m):
-                for b in range(a + 1, m):
-                    dx = params[i, a, 0] - params[i, b, 0]
-                    dy = params[i, a, 1] - params[i, b, 1]
-                    reach = radius[a] + radius[b]
-                    pairs[n_pairs, 0] = a
-                    pairs[n_pairs, 1] = b
-                    n_pairs += dx * dx + dy * dy < reach * reach
-            count = 0
-            for q in range(n_pairs):
-                for side in range(2):
-                    k = pairs[q, side]
-                    if not placed[k]:
-                        _world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, k)
-                        placed[k] = True
-                a = pairs[q, 0]
-                b = pairs[q, 1]
-                if _boxes_meet(ebox, a, b):
-                    ea, eb = ids[i, a], ids[i, b]
-                    count += _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox)
-            out[i] = count
-
-
 @njit(parallel=True, cache=True)
 def _bounds_kernel(shapes, ids, n_el, params, n_blocks, out):
     unit = shapes[2]
@@ -450,27 +265,4 @@ def _bounds_kernel(shapes, ids, n_el, params, n_blocks, out):
         pbox = np.empty((k_max, unit.shape[1], 4))
         for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
             for k in range(n_el[i]):
-                _world_element(shapes, ids[i, k], params[i, k], wv, pbox, out[i], k)
-
-
-@njit(parallel=True, cache=True)
-def _outside_kernel(shapes, unit_radius, offset_radius, ids, n_el, params, width, height, n_blocks, out):
-    unit = shapes[2]
-    n = ids.shape[0]
-    for block in prange(n_blocks):
-        wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
-        pbox = np.empty((1, unit.shape[1], 4))
-        ebox = np.empty((1, 4))
-        for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
-            count = 0
-            for k in range(n_el[i]):
-                x = params[i, k, 0]
-                y = params[i, k, 1]
-                r = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
-                if x - r >= 0.0 and y - r >= 0.0 and x + r <= width and y + r <= height:
-                    continue  # the bounding circle is inside: no need to transform
-                _world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, 0)
-                count += (
-                    (ebox[0, 0] < 0.0) | (ebox[0, 1] < 0.0) | (ebox[0, 2] > width) | (ebox[0, 3] > height)
-                )
-            out[i] = count
+                world_element(shapes, ids[i, k], params[i, k], wv, pbox, out[i], k)

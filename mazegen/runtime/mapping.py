@@ -39,18 +39,24 @@ import numpy as np
 from numba import get_num_threads, njit, prange
 
 from mazegen.runtime.bnf import Grammar, Symbol
+from mazegen.runtime.compiled_grammar import (
+    CHOICE_CODONS,
+    CLASSES,
+    DIGIT,
+    DOT,
+    FRACTION,
+    IDLE,
+    INT,
+    LETTER,
+    MINUS,
+    NAME,
+    POINT,
+    SIGN,
+    CompiledGrammar,
+)
 
 NUMBERS_PER_ELEMENT = 4
 _TOKEN = re.compile(r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)|(?P<number>-?[0-9]+(?:\.[0-9]+)?)")
-# Character classes of the kernel's tokeniser (ASCII codes; other text is 0).
-_OTHER, _LETTER, _DIGIT, _MINUS, _DOT = 0, 1, 2, 3, 4
-_CLASSES = np.zeros(128, np.int8)
-_CLASSES[[ord(c) for c in "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz_"]] = _LETTER
-_CLASSES[[ord(c) for c in "0123456789"]] = _DIGIT
-_CLASSES[ord("-")], _CLASSES[ord(".")] = _MINUS, _DOT
-# Tokeniser states.
-_IDLE, _NAME, _SIGN, _INT, _POINT, _FRACTION = range(6)
-_CHOICE_CODONS = 256  # codons with a precomputed alternative per rule (the usual 0..255)
 
 
 @dataclass(frozen=True)
@@ -66,45 +72,6 @@ class MapResult:
     phenotype: str | None
     valid: bool
     used_codons: int
-
-
-@dataclass(frozen=True)
-class CompiledGrammar:
-    """A grammar as flat arrays for the kernel (see :func:`compile_grammar`).
-
-    Symbols are ``int32`` codes: a rule index (``>= 0``) or ``-1 - terminal``.
-    Rule ``r`` owns alternatives ``rule_alts[r]:rule_alts[r + 1]``; alternative
-    ``a`` owns ``symbols[alt_symbols[a]:alt_symbols[a + 1]]`` and holds
-    ``alt_nonterminals[a]`` non-terminals. Terminal ``t`` is the ASCII codes
-    ``chars[term_chars[t]:term_chars[t + 1]]`` (other characters are 0).
-    ``trie[node, code]`` is the next node of the element-name trie (-1 none) and
-    ``trie_element[node]`` the element a name ending there denotes (-1 none).
-
-    Terminals without digits, ``-`` or ``.`` are also tokenised once, here: read
-    from the idle state, terminal ``t`` emits the elements
-    ``emits[term_emits[t]:term_emits[t + 1]]`` and leaves the tokeniser in
-    ``term_end_mode[t]``, ``term_end_node[t]``; ``term_fast[t]`` marks them.
-    ``choice[r, c]`` is ``c % alternatives`` of rule ``r`` for codons ``c`` below
-    256, a table lookup instead of an integer division per derivation step.
-    """
-
-    element_names: tuple[str, ...]
-    start: int
-    max_alt_len: int
-    rule_alts: np.ndarray
-    alt_symbols: np.ndarray
-    alt_nonterminals: np.ndarray
-    symbols: np.ndarray
-    term_chars: np.ndarray
-    chars: np.ndarray
-    trie: np.ndarray
-    trie_element: np.ndarray
-    term_fast: np.ndarray
-    term_emits: np.ndarray
-    emits: np.ndarray
-    term_end_mode: np.ndarray
-    term_end_node: np.ndarray
-    choice: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -223,105 +190,6 @@ def extract_elements(text: str, element_names: Sequence[str]) -> list[tuple[int,
     return [(element, tuple(numbers)) for element, numbers in found]
 
 
-def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledGrammar:
-    """Flatten a grammar into the arrays :func:`map_population` works on.
-
-    Args:
-        grammar: The grammar.
-        element_names: Element names recognised in terminals; id = index.
-
-    Returns:
-        The compiled grammar.
-
-    Raises:
-        ValueError: If an element name is not an ASCII identifier or repeats.
-    """
-    if len(set(element_names)) != len(element_names):
-        raise ValueError("element names repeat")
-    rule_ids = {name: i for i, name in enumerate(grammar.rules)}
-    terminals: dict[str, int] = {}
-    rule_alts, alt_symbols, alt_nts, symbols = [0], [0], [], []
-    for alternatives in grammar.rules.values():
-        for alternative in alternatives:
-            symbols += [
-                rule_ids[s.text] if s.nonterminal else ~terminals.setdefault(s.text, len(terminals))
-                for s in alternative
-            ]
-            alt_symbols.append(len(symbols))
-            alt_nts.append(sum(s.nonterminal for s in alternative))
-        rule_alts.append(len(alt_symbols) - 1)
-    term_chars: list[int] = [0]
-    chars: list[int] = []
-    for text in terminals:
-        chars.extend(ord(c) if ord(c) < 128 else 0 for c in text)
-        term_chars.append(len(chars))
-    trie = [[-1] * 128]
-    trie_element = [-1]
-    for element, name in enumerate(element_names):
-        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
-            raise ValueError(f"element name {name!r} is not an identifier")
-        node = 0
-        for c in name:
-            if trie[node][ord(c)] < 0:
-                trie[node][ord(c)] = len(trie)
-                trie.append([-1] * 128)
-                trie_element.append(-1)
-            node = trie[node][ord(c)]
-        trie_element[node] = element
-    fast, emit_offsets, emitted, end_modes, end_nodes = [], [0], [], [], []
-    for text in terminals:
-        scan = _scan_from_idle(text, trie, trie_element)
-        fast.append(scan is not None)
-        elements, end_mode, end_node = scan or ([], _IDLE, 0)
-        emitted += elements
-        emit_offsets.append(len(emitted))
-        end_modes.append(end_mode)
-        end_nodes.append(end_node)
-    i32 = np.int32
-    return CompiledGrammar(
-        element_names=tuple(element_names),
-        start=rule_ids[grammar.start],
-        max_alt_len=max(len(a) for alts in grammar.rules.values() for a in alts),
-        rule_alts=np.array(rule_alts, i32),
-        alt_symbols=np.array(alt_symbols, i32),
-        alt_nonterminals=np.array(alt_nts, i32),
-        symbols=np.array(symbols, i32),
-        term_chars=np.array(term_chars, i32),
-        chars=np.array(chars, np.uint8),
-        trie=np.array(trie, i32),
-        trie_element=np.array(trie_element, i32),
-        term_fast=np.array(fast, np.bool_),
-        term_emits=np.array(emit_offsets, i32),
-        emits=np.array(emitted, i32),
-        term_end_mode=np.array(end_modes, i32),
-        term_end_node=np.array(end_nodes, i32),
-        choice=np.arange(_CHOICE_CODONS)[None, :] % np.diff(rule_alts)[:, None].astype(i32),
-    )
-
-
-def _scan_from_idle(
-    text: str, trie: list[list[int]], trie_element: list[int]
-) -> tuple[list[int], int, int] | None:
-    """Tokenise a terminal from the idle state as the kernel would; ``None`` if it holds number characters.
-
-    Returns:
-        The elements completed inside the terminal, and the tokeniser's final mode and trie node.
-    """
-    codes = [ord(c) if ord(c) < 128 else 0 for c in text]
-    if any(_CLASSES[code] in (_DIGIT, _MINUS, _DOT) for code in codes):
-        return None
-    mode, node, elements = _IDLE, 0, []
-    for code in codes:
-        letter = _CLASSES[code] == _LETTER
-        if mode == _NAME and letter:
-            node = trie[node][code] if node >= 0 else -1
-            continue
-        if mode == _NAME and node >= 0 and trie_element[node] >= 0:
-            elements.append(trie_element[node])
-        mode, node = (_NAME, trie[0][code]) if letter else (_IDLE, 0)
-    return elements, mode, node
-
-
 def map_population(
     compiled: CompiledGrammar,
     codons: np.ndarray,
@@ -341,7 +209,7 @@ def map_population(
     spanning several terminals included (numbers are exact up to 15 digits).
 
     Args:
-        compiled: The grammar from :func:`compile_grammar`.
+        compiled: The grammar from :func:`~mazegen.runtime.compiled_grammar.compile_grammar`.
         codons: ``N x L`` integer array, one genome per row.
         wraps: As :func:`map_genome`.
         consume: As :func:`map_genome`.
@@ -386,7 +254,7 @@ def map_population(
         c.chars,
         c.trie,
         c.trie_element,
-        _CLASSES,
+        CLASSES,
         c.term_fast,
         c.term_emits,
         c.emits,
@@ -433,7 +301,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
     stack[0], depths[0] = start, 1
     sp, used, pos, deepest, pending = 1, 0, 0, 1, 1
     cur, cur_end, cur_depth, stuck = 0, 0, 0, False
-    mode, node, sign, mant, scale, count, n_num = _IDLE, 0, 1.0, 0.0, 1.0, 0, 0
+    mode, node, sign, mant, scale, count, n_num = IDLE, 0, 1.0, 0.0, 1.0, 0, 0
     while (cur < cur_end or sp > 0) and deepest <= max_depth:
         wrapped = pony and used > 0 and pos == 0 and pending > 0
         if cur < cur_end:
@@ -443,7 +311,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
             sp -= 1
             symbol, depth = stack[sp], depths[sp]
         deepest = max(deepest, depth)
-        if symbol < 0 and mode == _IDLE and term_fast[-1 - symbol]:
+        if symbol < 0 and mode == IDLE and term_fast[-1 - symbol]:
             for q in range(term_emits[-1 - symbol], term_emits[-symbol]):
                 count, n_num = _emit(emits[q], out, i, count)
             mode, node = term_end_mode[-1 - symbol], term_end_node[-1 - symbol]
@@ -451,25 +319,25 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
             for p in range(term_chars[-1 - symbol], term_chars[-symbol]):
                 code = chars[p]
                 kind = classes[code]
-                if mode == _NAME and _LETTER <= kind <= _DIGIT:
+                if mode == NAME and LETTER <= kind <= DIGIT:
                     node = trie[node, code] if node >= 0 else -1
                     continue
-                if kind == _DIGIT and mode >= _SIGN:
+                if kind == DIGIT and mode >= SIGN:
                     mant = mant * 10.0 + (code - 48)
-                    scale = scale * 10.0 if mode >= _POINT else scale
-                    mode = _FRACTION if mode >= _POINT else _INT
+                    scale = scale * 10.0 if mode >= POINT else scale
+                    mode = FRACTION if mode >= POINT else INT
                     continue
-                if kind == _DOT and mode == _INT:
-                    mode = _POINT
+                if kind == DOT and mode == INT:
+                    mode = POINT
                     continue
                 count, n_num = _finish(mode, node, sign * mant / scale, trie_element, out, i, count, n_num)
-                mode, node, sign, mant, scale = _IDLE, 0, 1.0, 0.0, 1.0
-                if kind == _LETTER:
-                    mode, node = _NAME, trie[0, code]
-                elif kind == _DIGIT:
-                    mode, mant = _INT, code - 48.0
-                elif kind == _MINUS:
-                    mode, sign = _SIGN, -1.0
+                mode, node, sign, mant, scale = IDLE, 0, 1.0, 0.0, 1.0
+                if kind == LETTER:
+                    mode, node = NAME, trie[0, code]
+                elif kind == DIGIT:
+                    mode, mant = INT, code - 48.0
+                elif kind == MINUS:
+                    mode, sign = SIGN, -1.0
         else:
             pending -= 1
             first = rule_alts[symbol]
@@ -481,7 +349,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
                 break
             else:
                 codon = np.int64(codons[i, pos])
-                chosen = first + (choice[symbol, codon] if 0 <= codon < _CHOICE_CODONS else codon % k)
+                chosen = first + (choice[symbol, codon] if 0 <= codon < CHOICE_CODONS else codon % k)
                 used += 1
                 pos = 0 if pos + 1 == n else pos + 1
             for j in range(cur_end - 1, cur - 1, -1):  # the rest of the alternative being read
@@ -508,9 +376,9 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
 def _finish(mode, node, value, trie_element, out, i, count, n_num):  # pragma: no cover - compiled
     """Emit the token that just ended; a ``count`` beyond the slots means overflow."""
     numbers = out[4]
-    if mode == _NAME and node >= 0 and trie_element[node] >= 0:
+    if mode == NAME and node >= 0 and trie_element[node] >= 0:
         return _emit(trie_element[node], out, i, count)
-    if mode >= _INT and 0 < count <= numbers.shape[1] and n_num < NUMBERS_PER_ELEMENT:
+    if mode >= INT and 0 < count <= numbers.shape[1] and n_num < NUMBERS_PER_ELEMENT:
         numbers[i, count - 1, n_num] = value
         return count, n_num + 1
     return count, n_num

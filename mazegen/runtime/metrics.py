@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from mazegen.runtime import geometry
+from mazegen.runtime import overlap
 from mazegen.runtime.population import SX, SY, Population
 
 
@@ -20,7 +20,7 @@ def element_count(pop: Population) -> np.ndarray:
 
 def overlapping_pairs(pop: Population) -> np.ndarray:
     """Pairs of elements whose interiors intersect (paper eq. 2's N_overlapped)."""
-    return geometry.overlapping_pairs(pop.table, pop.element_ids, pop.n_elements, pop.params).astype(
+    return overlap.overlapping_pairs(pop.table, pop.element_ids, pop.n_elements, pop.params).astype(
         np.float64
     )
 
@@ -42,7 +42,7 @@ def _count_over_size(params, n_elements, limit):  # pragma: no cover - compiled
 def elements_outside(pop: Population) -> np.ndarray:
     """Elements not wholly inside the arena."""
     arena = pop.arena
-    return geometry.elements_outside(
+    return overlap.elements_outside(
         pop.table, pop.element_ids, pop.n_elements, pop.params, arena.width, arena.height
     ).astype(np.float64)
 

@@ -14,14 +14,9 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.runtime.bnf import Grammar, read_bnf
+from mazegen.runtime.compiled_grammar import CompiledGrammar, compile_grammar
 from mazegen.runtime.geometry import ElementTable
-from mazegen.runtime.mapping import (
-    NUMBERS_PER_ELEMENT,
-    CompiledGrammar,
-    PopulationMap,
-    compile_grammar,
-    map_population,
-)
+from mazegen.runtime.mapping import NUMBERS_PER_ELEMENT, PopulationMap, map_population
 from mazegen.runtime.population import PLACEMENT_GENES, Population, Ranges, decode
 from mazegen.spec import Spec
 

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from mazegen.runtime.bnf import Grammar, Symbol, parse_bnf, read_bnf
+from mazegen.runtime.compiled_grammar import compile_grammar
 from mazegen.runtime.mapping import (
     MapResult,
-    compile_grammar,
     extract_elements,
     map_genome,
     map_population,
@@ -320,9 +320,6 @@ NO_ELEMENTS = compile_grammar(PAPER, ())
         (lambda: map_population(NO_ELEMENTS, np.zeros(3, np.int64), max_elements=1), "2-D integer"),
         (lambda: map_population(NO_ELEMENTS, np.zeros((3, 2)), max_elements=1), "2-D integer"),
         (lambda: map_population(NO_ELEMENTS, np.zeros((3, 2), int), max_elements=-1), "max_elements"),
-        (lambda: compile_grammar(PAPER, ("angle", "angle")), "repeat"),
-        (lambda: compile_grammar(PAPER, ("two words",)), "not an identifier"),
-        (lambda: compile_grammar(PAPER, ("héllo",)), "not an identifier"),
     ],
 )
 def test_bad_arguments(call, message: str) -> None:
