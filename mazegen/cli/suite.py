@@ -46,7 +46,7 @@ def suite(
     from mazegen.dsl.loader import load_spec
     from mazegen.generator.build import build
     from mazegen.runtime.problem import Problem
-    from mazegen.runtime.progress import reporter_for
+    from mazegen.runtime.progress import note_first_compile, reporter_for
     from mazegen.runtime.suite import fill_archive, suite_documents, write_suite
 
     resolved = load_spec(spec)
@@ -60,6 +60,7 @@ def suite(
         build(resolved, Path(temp))
         problem = Problem.from_build_dir(Path(temp))
         try:
+            note_first_compile(reporter)
             reporter.add_run("suite", "archive", iterations)
             archive = fill_archive(
                 problem,

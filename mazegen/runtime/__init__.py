@@ -52,3 +52,12 @@ if not os.environ.get("NUMBA_CACHE_DIR"):  # a folder the user chose wins
     _cache = _kernel_cache_dir()
     prune_kernel_caches(_cache)
     numba.config.CACHE_DIR = str(_cache)  # type: ignore[attr-defined]  # set at import by numba
+
+
+def kernels_cached() -> bool:
+    """Whether compiled kernels of this version are on disk; a run without them compiles them first
+    (about a minute on two cores), with nothing else to show for it."""
+    folder = numba.config.CACHE_DIR  # type: ignore[attr-defined]  # set at import by numba
+    if not folder:  # numba's default place, beside the sources: not ours to judge
+        return True
+    return any(Path(folder).rglob("*.nbi"))

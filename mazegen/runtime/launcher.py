@@ -22,7 +22,7 @@ from mazegen.runtime.catalog import Catalog, default_catalog
 from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointStore
 from mazegen.runtime.evolution import RunResult
 from mazegen.runtime.executors import Executor, executor_for
-from mazegen.runtime.progress import QuietReporter, Reporter
+from mazegen.runtime.progress import QuietReporter, Reporter, note_first_compile
 from mazegen.runtime.results import RunDirectory
 from mazegen.runtime.worker import FinishedRun, RunOutcome, RunTask
 
@@ -244,6 +244,8 @@ def launch(
     """
     reporter = reporter or QuietReporter()
     policy = policy or CheckpointPolicy()
+    if not executor.name.startswith("dask"):  # a cluster's workers have caches of their own
+        note_first_compile(reporter)
     launched: list[_Launched] = []
     try:
         for index, job in enumerate(jobs):

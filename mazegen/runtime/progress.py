@@ -3,6 +3,7 @@
 Evaluations per second are measured where the work is done: a run's bar divides its
 evaluations by the seconds its generations took on its worker; the overall bar divides
 every run's evaluations by the wall-clock time since the first bar appeared.
+A run that must first compile the kernels says so (:func:`note_first_compile`).
 """
 
 from __future__ import annotations
@@ -39,6 +40,20 @@ class Reporter(Protocol):
 def reporter_for(*, quiet: bool) -> Reporter:
     """The reporter a command line asks for."""
     return QuietReporter() if quiet else RichReporter()
+
+
+FIRST_COMPILE_NOTE = (
+    "compiling MazeGen's kernels, once for this version (about a minute on two cores); "
+    "later runs start at once"
+)
+
+
+def note_first_compile(reporter: Reporter) -> None:
+    """Say why a first run's bars stand still for a while: its kernels are not compiled yet."""
+    from mazegen.runtime import kernels_cached
+
+    if not kernels_cached():
+        reporter.note(FIRST_COMPILE_NOTE)
 
 
 class QuietReporter:

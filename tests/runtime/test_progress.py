@@ -4,10 +4,15 @@ from __future__ import annotations
 
 import io
 
+import numba
 from rich.console import Console
 
+import mazegen
+import mazegen.runtime
+from mazegen.runtime import kernels_cached
 from mazegen.runtime.evolution import GenerationStats
-from mazegen.runtime.progress import RichReporter
+from mazegen.runtime.progress import FIRST_COMPILE_NOTE, QuietReporter, RichReporter
+from tests.conftest import EXAMPLES
 
 
 def test_a_bar_per_run_under_an_overall_bar_with_rates():
@@ -33,3 +38,30 @@ def test_a_bar_per_run_under_an_overall_bar_with_rates():
     assert "3/3" in first and "best 6 " in first and "2,000 evaluations/s" in first  # 1,500 in 0.75 s
     assert "3/3" in second and "200 evaluations/s" in second
     assert "a note" in lines
+
+
+class _Notes(QuietReporter):
+    def __init__(self) -> None:
+        self.notes: list[str] = []
+
+    def note(self, message: str) -> None:
+        self.notes.append(message)
+
+
+def test_kernels_are_cached_once_an_index_is_on_disk(tmp_path, monkeypatch):
+    monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))
+    assert not kernels_cached()
+    (tmp_path / "work" / "main").mkdir(parents=True)
+    (tmp_path / "work" / "main" / "mapping._map_all-5.py311.nbc").write_bytes(b"")
+    assert not kernels_cached()  # compiled code without its index is not found by numba
+    (tmp_path / "work" / "main" / "mapping._map_all-5.py311.nbi").write_bytes(b"")
+    assert kernels_cached()
+
+
+def test_a_first_run_says_it_is_compiling(monkeypatch):
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    for cached, notes in ((False, [FIRST_COMPILE_NOTE]), (True, [])):
+        monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda cached=cached: cached)
+        reporter = _Notes()
+        mazegen.run(spec, population=20, generations=1, reporter=reporter)
+        assert reporter.notes == notes
