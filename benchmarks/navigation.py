@@ -12,7 +12,7 @@ of ``--repeats`` calls after one untimed call, with all numba threads and with o
 
 * ``examples/factory.maze`` on its own grid (12.5 cm cells) and on a 25 cm grid (the population's
   arena replaced, the placements decoded again before timing): ``navigate`` (solvability, path
-  length, coverage);
+  length, coverage); on its own grid also ``reach`` (solvability and coverage without paths);
 * ``examples/factory.maze``: the full evaluation ``problem.evaluate`` (mapping, decoding and every
   fitness term, into a workspace kept from call to call as a run's generations do), all threads
   only: as the spec asks (its terms read solvability, so
@@ -21,7 +21,9 @@ of ``--repeats`` calls after one untimed call, with all numba threads and with o
 * ``examples/workshop.maze``: ``navigate``, and ``survey`` (the path search plus BARN's difficulty
   metrics along each path).
 
-Prints a Markdown table and the target, writes ``benchmarks/navigation.csv``.
+Prints a Markdown table, the target and the budget it leaves for path lengths on top of
+solvability (against what ``navigate`` costs on top of ``reach`` in the same run), writes
+``benchmarks/navigation.csv``.
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ from kernels import EVOLVED_GENERATIONS, Sample, evolved_sample
 
 import mazegen
 from mazegen.runtime import metrics
+from mazegen.runtime.connectivity import reach
 from mazegen.runtime.cspace import grid_of
 from mazegen.runtime.difficulty import survey
 from mazegen.runtime.navigation import navigate
@@ -80,6 +83,7 @@ def reading_path_length(problem: Problem) -> Problem:
 # population.
 OPERATIONS: dict[str, Callable[[Problem, Sample, Population], Callable[[], object]]] = {
     "navigate": lambda problem, sample, pop: partial(navigate, pop, grid_of(pop.arena)),
+    "reach": lambda problem, sample, pop: partial(reach, pop, grid_of(pop.arena)),
     "survey": lambda problem, sample, pop: partial(survey, pop),
     "full evaluation": lambda problem, sample, pop: partial(
         problem.evaluate, sample.codons, sample.genes, Workspace()
@@ -109,6 +113,7 @@ class Case:
 
 CASES = (
     Case("factory", "navigate"),
+    Case("factory", "reach"),
     Case("factory", "navigate", grid=25.0),
     Case("factory", "full evaluation", one_thread=False),
     Case("factory", "full evaluation + path", one_thread=False),
@@ -214,6 +219,18 @@ def target_line(rows: list[dict]) -> str:
     )
 
 
+def budget_line(rows: list[dict]) -> str:
+    """What the target leaves per floor for path lengths on top of the spec's own evaluation (which
+    decides solvability without paths), beside what searching them costs on top of that in this run."""
+    factory = {row["operation"]: row for row in rows if row["spec"] == "factory" and row["grid"] == 12.5}
+    allowed = 1e6 / TARGET - 1e6 / factory["full evaluation"]["per_s"]
+    extra = 1e6 / factory["navigate"]["per_s"] - 1e6 / factory["reach"]["per_s"]
+    cost = f"navigate costs {extra:.2f} µs per floor more than reach (all threads)"
+    if allowed < 0:
+        return f"the spec's own evaluation alone is {-allowed:.2f} µs per floor over the target; {cost}"
+    return f"path lengths may add {allowed:.2f} µs per floor to the spec's own evaluation; {cost}"
+
+
 def main() -> None:
     """Measure, print the table and the target, write the CSV."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -235,6 +252,7 @@ def main() -> None:
     print(markdown_table(rows, COLUMNS))
     print("\n### Target\n")
     print(target_line(rows))
+    print(budget_line(rows))
 
     path = BENCHMARKS / "navigation.csv"
     write_csv(path, rows)
