@@ -10,6 +10,15 @@ ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples"
 
 
+@pytest.fixture(autouse=True)
+def _kernels_cached(monkeypatch):
+    """Commands say nothing about compiling kernels, whatever the state of the cache, so that tests of
+    their output do not depend on which test ran first (the note has tests of its own)."""
+    import mazegen.runtime
+
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda: True)
+
+
 @pytest.fixture
 def write_spec(tmp_path: Path):
     """Write ``text`` as a .maze file in a temporary directory and return its path."""

@@ -19,10 +19,12 @@ def score(spec: Path, scenario: Path) -> None:
     from mazegen.dsl.loader import load_spec
     from mazegen.generator.build import build
     from mazegen.runtime.problem import Problem
+    from mazegen.runtime.progress import QuietReporter, note_first_compile
     from mazegen.runtime.scenario import population_from_document, read_document
 
     resolved = load_spec(spec)
     document = read_document(scenario)
+    note_first_compile(QuietReporter())  # on standard error: the table on standard output stays clean
     with tempfile.TemporaryDirectory(prefix="mazegen-score-") as temp:
         build(resolved, Path(temp))
         problem = Problem.from_build_dir(Path(temp))

@@ -5,14 +5,17 @@ from __future__ import annotations
 import io
 
 import numba
+from click.testing import CliRunner
 from rich.console import Console
 
 import mazegen
 import mazegen.runtime
+from mazegen.cli.main import main
 from mazegen.runtime import kernels_cached
 from mazegen.runtime.evolution import GenerationStats
 from mazegen.runtime.progress import FIRST_COMPILE_NOTE, QuietReporter, RichReporter
 from tests.conftest import EXAMPLES
+from tests.runtime.floors import floor_file
 
 
 def test_a_bar_per_run_under_an_overall_bar_with_rates():
@@ -58,10 +61,17 @@ def test_kernels_are_cached_once_an_index_is_on_disk(tmp_path, monkeypatch):
     assert kernels_cached()
 
 
-def test_a_first_run_says_it_is_compiling(monkeypatch):
+def test_a_first_run_says_it_is_compiling(monkeypatch, tmp_path):
     spec = mazegen.load(EXAMPLES / "factory.maze")
     for cached, notes in ((False, [FIRST_COMPILE_NOTE]), (True, [])):
         monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda cached=cached: cached)
         reporter = _Notes()
         mazegen.run(spec, population=20, generations=1, reporter=reporter)
         assert reporter.notes == notes
+    # `mazegen score` says it on standard error and keeps its table on standard output.
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda: False)
+    floor = floor_file(tmp_path / "floor.json", {"type": "router", "x": 300, "y": 100, "size": 30})
+    result = CliRunner().invoke(main, ["score", str(EXAMPLES / "factory.maze"), str(floor)])
+    assert result.exit_code == 0
+    assert result.stderr.splitlines() == [FIRST_COMPILE_NOTE]
+    assert result.stdout.splitlines()[:2] == ["fitness\t1", "elements\t1"]
