@@ -2,4 +2,5 @@
 
 from mazegen.cli.main import main
 
-main()
+if __name__ == "__main__":  # worker processes import this module again: they must not start a command
+    main()

@@ -3,11 +3,16 @@
 from __future__ import annotations
 
 import functools
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
+
+if TYPE_CHECKING:
+    from mazegen.runtime.progress import Reporter
+    from mazegen.spec import Spec
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -58,6 +63,32 @@ def launch_settings(options: dict[str, Any]) -> dict[str, Any]:
         "checkpoint_every": options["checkpoint_every"],
         "catalog": True if options["catalog"] is None else options["catalog"],
     }
+
+
+def compile_first(source: Spec | Path, executor: str, reporter: Reporter) -> None:
+    """Before the first runs of this version, say so and compile the kernels on two cores at once.
+
+    ``source`` is the spec or a build directory. Here rather than in the API: a helper process
+    imports the program's main module, which this command's is safe for and a script's may not
+    be. A Dask cluster's workers compile for themselves.
+    """
+    from mazegen.runtime import kernels_cached
+
+    if executor == "dask" or kernels_cached():
+        return
+    from mazegen.runtime.problem import Problem
+    from mazegen.runtime.progress import FIRST_COMPILE_NOTE
+    from mazegen.runtime.warmup import compile_kernels
+
+    reporter.note(FIRST_COMPILE_NOTE)
+    if isinstance(source, Path):
+        compile_kernels(Problem.from_build_dir(source))
+        return
+    from mazegen.generator.build import build
+
+    with tempfile.TemporaryDirectory(prefix="mazegen-compile-") as temp:
+        build(source, Path(temp))
+        compile_kernels(Problem.from_build_dir(Path(temp)))
 
 
 def reports_interruption(command: F) -> F:

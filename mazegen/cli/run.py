@@ -8,7 +8,7 @@ from typing import Any
 import click
 
 from mazegen.cli.errors import reports_errors
-from mazegen.cli.launching import launch_options, launch_settings, reports_interruption
+from mazegen.cli.launching import compile_first, launch_options, launch_settings, reports_interruption
 
 
 @click.command()
@@ -52,6 +52,7 @@ def run(
     target = out or default_run_dir(spec.with_evolution(seed=seed))
     reporter = reporter_for(quiet=quiet)
     try:
+        compile_first(spec if source.is_file() else source, options["executor"], reporter)
         outcome = api.run(
             spec if source.is_file() else source,
             seed=seed,

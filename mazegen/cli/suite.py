@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from mazegen.cli.errors import reports_errors
+from mazegen.cli.launching import compile_first
 
 
 @click.command()
@@ -46,7 +47,7 @@ def suite(
     from mazegen.dsl.loader import load_spec
     from mazegen.generator.build import build
     from mazegen.runtime.problem import Problem
-    from mazegen.runtime.progress import note_first_compile, reporter_for
+    from mazegen.runtime.progress import reporter_for
     from mazegen.runtime.suite import fill_archive, suite_documents, write_suite
 
     resolved = load_spec(spec)
@@ -60,7 +61,7 @@ def suite(
         build(resolved, Path(temp))
         problem = Problem.from_build_dir(Path(temp))
         try:
-            note_first_compile(reporter)
+            compile_first(Path(temp), "serial", reporter)
             reporter.add_run("suite", "archive", iterations)
             archive = fill_archive(
                 problem,

@@ -213,7 +213,8 @@ def _run_in_pool(task: RunTask) -> RunOutcome:
     return run_task(task, _channel)
 
 
-def _process_context() -> multiprocessing.context.BaseContext:
+def process_context() -> multiprocessing.context.ForkServerContext | multiprocessing.context.SpawnContext:
+    """How this package starts processes: forkserver where there is one, else spawn."""
     if "forkserver" in multiprocessing.get_all_start_methods():
         context = multiprocessing.get_context("forkserver")
         # The server imports the slow libraries once. Not this package: before Python 3.12 the server
@@ -234,7 +235,7 @@ class LocalExecutor(PooledExecutor):
     def __init__(self, *, workers: int, threads_per_worker: int | None = None) -> None:
         if workers < 1:
             raise MazeError(f"--workers must be at least 1, got {workers}")
-        context = _process_context()
+        context = process_context()
         super().__init__(context.Queue())
         self._stop = context.Event()
         self._pool = ProcessPoolExecutor(

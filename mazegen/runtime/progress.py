@@ -43,8 +43,7 @@ def reporter_for(*, quiet: bool) -> Reporter:
 
 
 FIRST_COMPILE_NOTE = (
-    "compiling MazeGen's kernels, once for this version (about a minute on two cores); "
-    "later runs start at once"
+    "compiling MazeGen's kernels, once for this version (up to a minute); later runs start at once"
 )
 
 

@@ -1,0 +1,103 @@
+"""A first run compiles the kernels on two cores at once, and waits about a third less.
+
+numba compiles a kernel the first time it is called, one after another on one core:
+about a minute for a run on this project's machine, most of it before the first
+generation. When no kernel is cached yet, :func:`compile_kernels` splits that work in
+two before the runs start: a helper process compiles the path kernels (solvability, then
+the path search and difficulty metrics that every scenario file is measured with), while
+this process compiles the rest (mapping, placement, geometry, hashing, breeding) and
+then evolves a tiny population, which compiles what the spec's fitness calls besides.
+Both write to the kernel cache, from which the runs load them, here or in their workers.
+
+Compiling is a matter of types, not values, so the helper works on two empty floors.
+Nothing here changes a result: it only fills the cache sooner.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import signal
+
+import numpy as np
+
+from mazegen.runtime import metrics
+from mazegen.runtime.cache import genome_hashes
+from mazegen.runtime.connectivity import reach
+from mazegen.runtime.cspace import grid_of
+from mazegen.runtime.difficulty import survey
+from mazegen.runtime.evolution import breed, evolve
+from mazegen.runtime.executors import process_context
+from mazegen.runtime.geometry import ElementTable, world_vertices
+from mazegen.runtime.operators import random_codons, random_genes
+from mazegen.runtime.population import PLACEMENT_GENES, Population
+from mazegen.runtime.problem import Problem, Workspace
+from mazegen.spec import Spec
+
+TINY = 8
+"""Individuals of the population that compiles the kernels."""
+
+
+def compile_kernels(problem: Problem) -> None:
+    """Compile the kernels ``problem``'s runs call, in a helper process and in this one at once.
+
+    Worth calling only when :func:`mazegen.runtime.kernels_cached` says nothing is cached,
+    and only from a program whose main module a new process may import (the ``mazegen``
+    command, or a script that guards its work with ``if __name__ == "__main__"``).
+
+    Raises:
+        MazeError: when the spec's fitness module fails, as the run would.
+    """
+    helper = process_context().Process(
+        target=_compile_path_kernels_quietly, args=(problem.spec,), daemon=True
+    )
+    helper.start()
+    try:
+        compile_evolution_kernels(problem)
+    except BaseException:
+        helper.terminate()  # the error (or Ctrl-C) is this process's to report
+        raise
+    finally:
+        helper.join()
+
+
+def _compile_path_kernels_quietly(spec: Spec) -> None:
+    """:func:`compile_path_kernels` in the helper, which leaves Ctrl-C to the command."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    with contextlib.suppress(Exception):  # best effort: whatever is not cached, the runs compile
+        compile_path_kernels(spec)
+
+
+def compile_path_kernels(spec: Spec) -> None:
+    """Compile solvability, then the path search and difficulty metrics, on two empty floors of ``spec``."""
+    types = spec.scenario_elements
+    slots = spec.scenario.max_elements
+    params = np.zeros((2, slots, PLACEMENT_GENES))
+    floors = Population(
+        element_ids=np.full((2, slots), -1, np.int32),
+        n_elements=np.zeros(2, np.int32),
+        placement=lambda: params,
+        valid=np.ones(2, np.bool_),
+        table=ElementTable.from_types(types),
+        arena=spec.arena,
+    )
+    if not spec.reads_difficulty:  # else the survey answers solvability too
+        reach(floors, grid_of(spec.arena))  # first: the evolution in the other process needs it soonest
+    survey(floors)
+
+
+def compile_evolution_kernels(problem: Problem) -> None:
+    """Compile mapping, placement, geometry, hashing and breeding, then evolve a tiny population."""
+    settings = dataclasses.replace(problem.spec.evolution, population=TINY, generations=1)
+    rng = np.random.default_rng(0)
+    codons = random_codons(rng, TINY, settings.genome, settings.codon_max)
+    genes = random_genes(rng, TINY, problem.slots)
+    _, floors = problem.decode(codons, genes, Workspace())
+    metrics.overlapping_pairs(floors)
+    metrics.elements_outside(floors)
+    metrics.elements_over_size(floors, 1.0)
+    world_vertices(problem.table, np.zeros(1, np.int32), np.zeros((1, PLACEMENT_GENES)))
+    genome_hashes(codons, genes)
+    breed(rng, codons, genes, np.zeros(TINY), settings, (np.empty_like(codons), np.empty_like(genes)))
+    # Last, when the helper has most likely cached solvability: whatever else the fitness calls.
+    evolve(problem, settings, rng)

@@ -1,0 +1,49 @@
+"""Compiling the kernels ahead of a first run, on two processes at once."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import textwrap
+
+from tests.conftest import EXAMPLES
+
+FIRST_RUN = textwrap.dedent(
+    """
+    import sys
+    from pathlib import Path
+
+    def main():
+        import mazegen
+        from mazegen.runtime import kernels_cached
+        from mazegen.runtime.problem import Problem
+        from mazegen.runtime.warmup import compile_kernels
+
+        cache, build = Path(sys.argv[1]), Path(sys.argv[2])
+        mazegen.build(mazegen.load(sys.argv[3]), build)
+        assert not kernels_cached()
+        compile_kernels(Problem.from_build_dir(build))
+        compiled = {path.name for path in cache.rglob("*.nb*")}
+        mazegen.run(build, population=30, generations=2, runs=1, executor="serial")
+        # the run, its scenario documents and their metrics included, loaded every kernel it called
+        print(sorted({path.name for path in cache.rglob("*.nb*")} - compiled))
+
+    if __name__ == "__main__":  # the helper process imports this module again
+        main()
+    """
+)
+
+
+def test_a_run_after_compiling_ahead_compiles_nothing(tmp_path):
+    script = tmp_path / "first_run.py"
+    script.write_text(FIRST_RUN)
+    cache = tmp_path / "cache"
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
+    args = [sys.executable, str(script), str(cache), str(tmp_path / "build"), str(EXAMPLES / "workshop.maze")]
+    done = subprocess.run(args, capture_output=True, text=True, env=env, timeout=900, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+    # Both processes compiled: the path kernels in the helper, the evolution's here.
+    names = {path.name.split("-")[0] for path in cache.rglob("*.nbi")}
+    assert {"difficulty._survey_all", "connectivity._reach_all", "mapping._map_all"} <= names
