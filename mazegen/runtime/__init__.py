@@ -55,8 +55,8 @@ if not os.environ.get("NUMBA_CACHE_DIR"):  # a folder the user chose wins
 
 
 def kernels_cached() -> bool:
-    """Whether compiled kernels of this version are on disk; a run without them compiles them first
-    (about a minute on two cores), with nothing else to show for it."""
+    """Whether compiled kernels of this version are on disk; a run without them compiles them
+    first, for up to a minute, with nothing else to show for it."""
     folder = numba.config.CACHE_DIR  # type: ignore[attr-defined]  # set at import by numba
     if not folder:  # numba's default place, beside the sources: not ours to judge
         return True
