@@ -54,10 +54,15 @@ if not os.environ.get("NUMBA_CACHE_DIR"):  # a folder the user chose wins
     numba.config.CACHE_DIR = str(_cache)  # type: ignore[attr-defined]  # set at import by numba
 
 
+EVERY_RUN_KERNELS = ("mapping._map_all", "difficulty._survey_all")
+"""Kernels every run calls, first and last (its scenario files' metrics): a cache without
+both was never filled, or its filling was cut short."""
+
+
 def kernels_cached() -> bool:
-    """Whether compiled kernels of this version are on disk; a run without them compiles them
-    first, for up to a minute, with nothing else to show for it."""
+    """Whether this version's kernels are on disk; a run without them compiles them first, for up
+    to a minute, with nothing else to show for it."""
     folder = numba.config.CACHE_DIR  # type: ignore[attr-defined]  # set at import by numba
     if not folder:  # numba's default place, beside the sources: not ours to judge
         return True
-    return any(Path(folder).rglob("*.nbi"))
+    return all(any(Path(folder).rglob(f"{kernel}-*.nbi")) for kernel in EVERY_RUN_KERNELS)

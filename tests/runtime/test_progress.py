@@ -51,13 +51,16 @@ class _Notes(QuietReporter):
         self.notes.append(message)
 
 
-def test_kernels_are_cached_once_an_index_is_on_disk(tmp_path, monkeypatch):
+def test_kernels_are_cached_once_every_run_kernel_has_an_index(tmp_path, monkeypatch):
     monkeypatch.setattr(numba.config, "CACHE_DIR", str(tmp_path))
     assert not kernels_cached()
-    (tmp_path / "work" / "main").mkdir(parents=True)
-    (tmp_path / "work" / "main" / "mapping._map_all-5.py311.nbc").write_bytes(b"")
+    folder = tmp_path / "work" / "main"  # numba keeps the sources' folders below the cache's
+    folder.mkdir(parents=True)
+    (folder / "mapping._map_all-5.py311.nbi").write_bytes(b"")
+    assert not kernels_cached()  # a first run cut short: the scenario metrics' kernel is missing
+    (folder / "difficulty._survey_all-9.py311.1.nbc").write_bytes(b"")
     assert not kernels_cached()  # compiled code without its index is not found by numba
-    (tmp_path / "work" / "main" / "mapping._map_all-5.py311.nbi").write_bytes(b"")
+    (folder / "difficulty._survey_all-9.py311.nbi").write_bytes(b"")
     assert kernels_cached()
 
 

@@ -24,6 +24,7 @@ FIRST_RUN = textwrap.dedent(
         mazegen.build(mazegen.load(sys.argv[3]), build)
         assert not kernels_cached()
         compile_kernels(Problem.from_build_dir(build))
+        assert kernels_cached()  # the kernels it looks for are named as numba files them
         compiled = {path.name for path in cache.rglob("*.nb*")}
         mazegen.run(build, population=30, generations=2, runs=1, executor="serial")
         # the run, its scenario documents and their metrics included, loaded every kernel it called
