@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 if TYPE_CHECKING:
+    from mazegen.runtime.problem import Problem
     from mazegen.runtime.progress import Reporter
     from mazegen.spec import Spec
 
@@ -65,12 +66,12 @@ def launch_settings(options: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def compile_first(source: Spec | Path, executor: str, reporter: Reporter) -> None:
+def compile_first(source: Spec | Path | Problem, executor: str, reporter: Reporter) -> None:
     """Before the first runs of this version, say so and compile the kernels on two cores at once.
 
-    ``source`` is the spec or a build directory. Here rather than in the API: a helper process
-    imports the program's main module, which this command's is safe for and a script's may not
-    be. A Dask cluster's workers compile for themselves.
+    ``source`` is the spec, a build directory or the problem loaded from one. Here rather than
+    in the API: a helper process imports the program's main module, which this command's is safe
+    for and a script's may not be. A Dask cluster's workers compile for themselves.
     """
     from mazegen.runtime import kernels_cached
 
@@ -81,14 +82,16 @@ def compile_first(source: Spec | Path, executor: str, reporter: Reporter) -> Non
     from mazegen.runtime.warmup import compile_kernels
 
     reporter.note(FIRST_COMPILE_NOTE)
-    if isinstance(source, Path):
+    if isinstance(source, Problem):
+        compile_kernels(source)
+    elif isinstance(source, Path):
         compile_kernels(Problem.from_build_dir(source))
-        return
-    from mazegen.generator.build import build
+    else:
+        from mazegen.generator.build import build
 
-    with tempfile.TemporaryDirectory(prefix="mazegen-compile-") as temp:
-        build(source, Path(temp))
-        compile_kernels(Problem.from_build_dir(Path(temp)))
+        with tempfile.TemporaryDirectory(prefix="mazegen-compile-") as temp:
+            build(source, Path(temp))
+            compile_kernels(Problem.from_build_dir(Path(temp)))
 
 
 def reports_interruption(command: F) -> F:

@@ -49,12 +49,13 @@ def run(
     from mazegen.runtime.progress import reporter_for
 
     spec = api.load(source) if source.is_file() else read_build_spec(source)
+    what = spec if source.is_file() else source  # a spec, or the build directory to run as it is
     target = out or default_run_dir(spec.with_evolution(seed=seed))
     reporter = reporter_for(quiet=quiet)
     try:
-        compile_first(spec if source.is_file() else source, options["executor"], reporter)
+        compile_first(what, options["executor"], reporter)
         outcome = api.run(
-            spec if source.is_file() else source,
+            what,
             seed=seed,
             runs=runs,
             population=population,

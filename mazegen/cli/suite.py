@@ -61,7 +61,7 @@ def suite(
         build(resolved, Path(temp))
         problem = Problem.from_build_dir(Path(temp))
         try:
-            compile_first(Path(temp), "serial", reporter)
+            compile_first(problem, "serial", reporter)
             reporter.add_run("suite", "archive", iterations)
             archive = fill_archive(
                 problem,

@@ -18,6 +18,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import signal
+import sys
 
 import numpy as np
 
@@ -62,8 +63,11 @@ def compile_kernels(problem: Problem) -> None:
 
 
 def _compile_path_kernels_quietly(spec: Spec) -> None:
-    """:func:`compile_path_kernels` in the helper, which leaves Ctrl-C to the command."""
+    """:func:`compile_path_kernels` in the helper, which leaves Ctrl-C to the command and, told
+    to stop, exits through Python so that its locks are released (a killed process leaves the
+    resource tracker to warn of a leaked semaphore, after the command's one-line error)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, lambda number, frame: sys.exit(1))
     with contextlib.suppress(Exception):  # best effort: whatever is not cached, the runs compile
         compile_path_kernels(spec)
 

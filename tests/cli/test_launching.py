@@ -6,6 +6,7 @@ import mazegen
 import mazegen.runtime
 import mazegen.runtime.warmup
 from mazegen.cli.launching import compile_first
+from mazegen.runtime.problem import Problem
 from mazegen.runtime.progress import FIRST_COMPILE_NOTE
 from tests.conftest import EXAMPLES
 
@@ -23,6 +24,7 @@ def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
     monkeypatch.setattr(mazegen.runtime.warmup, "compile_kernels", lambda problem: compiled.append(problem))
     spec = mazegen.load(EXAMPLES / "factory.maze")
     mazegen.build(spec, tmp_path / "build")
+    problem = Problem.from_build_dir(tmp_path / "build")
     for cached, executor, calls in (
         (True, "local", 0),  # the conftest's default: kernels cached
         (False, "dask", 0),  # a cluster's workers compile their own
@@ -31,9 +33,10 @@ def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
     ):
         monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda cached=cached: cached)
         compiled.clear()
-        for source in (spec, tmp_path / "build"):  # a spec, or a build directory
+        for source in (spec, tmp_path / "build", problem):  # a spec, a build directory, a loaded problem
             reporter = _Notes()
             compile_first(source, executor, reporter)  # type: ignore[arg-type]
             assert reporter.notes == [FIRST_COMPILE_NOTE] * calls
-        assert len(compiled) == 2 * calls
+        assert len(compiled) == 3 * calls
+        assert any(item is problem for item in compiled) or not calls  # a loaded problem, not reloaded
         assert all(problem.spec.name == "factory" for problem in compiled)
