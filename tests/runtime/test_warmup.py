@@ -48,3 +48,41 @@ def test_a_run_after_compiling_ahead_compiles_nothing(tmp_path):
     # Both processes compiled: the path kernels in the helper, the evolution's here.
     names = {path.name.split("-")[0] for path in cache.rglob("*.nbi")}
     assert {"difficulty._survey_all", "connectivity._reach_all", "mapping._map_all"} <= names
+
+
+STOPPED_HELPER = textwrap.dedent(
+    """
+    import sys
+    import time
+
+    def main():
+        import mazegen
+        from mazegen.runtime.executors import process_context
+        from mazegen.runtime.warmup import _compile_path_kernels_quietly
+
+        helper = process_context().Process(
+            target=_compile_path_kernels_quietly, args=(mazegen.load(sys.argv[1]),), daemon=True
+        )
+        helper.start()
+        time.sleep(5)  # well into compiling: the cache is empty
+        helper.terminate()  # as compile_kernels does when the command fails or is interrupted
+        helper.join(120)
+        print(helper.exitcode)
+
+    if __name__ == "__main__":
+        main()
+    """
+)
+
+
+def test_a_stopped_helper_exits_through_python(tmp_path):
+    # Killed outright, the helper would leave a semaphore behind, and the resource tracker would
+    # warn of it after the command's one-line error.
+    script = tmp_path / "stopped.py"
+    script.write_text(STOPPED_HELPER)
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
+    args = [sys.executable, str(script), str(EXAMPLES / "factory.maze")]
+    done = subprocess.run(args, capture_output=True, text=True, env=env, timeout=300, check=False)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "1"  # sys.exit(1) from its handler, not -15 for a kill
+    assert done.stderr == ""
