@@ -9,14 +9,7 @@ from mazegen.cli.launching import compile_first
 from mazegen.runtime.problem import Problem
 from mazegen.runtime.progress import FIRST_COMPILE_NOTE
 from tests.conftest import EXAMPLES
-
-
-class _Notes:
-    def __init__(self) -> None:
-        self.notes: list[str] = []
-
-    def note(self, message: str) -> None:
-        self.notes.append(message)
+from tests.runtime.test_progress import Notes
 
 
 def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
@@ -34,7 +27,7 @@ def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
         monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda cached=cached: cached)
         compiled.clear()
         for source in (spec, tmp_path / "build", problem):  # a spec, a build directory, a loaded problem
-            reporter = _Notes()
+            reporter = Notes()
             compile_first(source, executor, reporter)  # type: ignore[arg-type]
             assert reporter.notes == [FIRST_COMPILE_NOTE] * calls
         assert len(compiled) == 3 * calls

@@ -43,7 +43,9 @@ def test_a_bar_per_run_under_an_overall_bar_with_rates():
     assert "a note" in lines
 
 
-class _Notes(QuietReporter):
+class Notes(QuietReporter):
+    """A reporter that keeps its notes."""
+
     def __init__(self) -> None:
         self.notes: list[str] = []
 
@@ -68,7 +70,7 @@ def test_a_first_run_says_it_is_compiling(monkeypatch, tmp_path):
     spec = mazegen.load(EXAMPLES / "factory.maze")
     for cached, notes in ((False, [FIRST_COMPILE_NOTE]), (True, [])):
         monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda cached=cached: cached)
-        reporter = _Notes()
+        reporter = Notes()
         mazegen.run(spec, population=20, generations=1, reporter=reporter)
         assert reporter.notes == notes
     # `mazegen score` says it on standard error and keeps its table on standard output.
