@@ -177,20 +177,33 @@ class FitnessTerm:
         return self.metric if self.kind == "metric" and self.metric else self.kind
 
 
+SEED_MAX = 2**63 - 1
+"""The largest seed: the catalog stores seeds as SQLite's 64-bit integers."""
+
+CODON_MAX = 2**31 - 1
+"""The largest codon value: codons are 32-bit integers."""
+
+MAX_CODONS = 100_000_000
+"""The most codons a population may hold (population x genome): about 0.4 GB each for the
+parents and the children, within a 24 GB machine with the placement genes and metrics."""
+
+
 EVOLUTION_BOUNDS: dict[str, tuple[Callable[[float], bool], str]] = {
-    "population": (lambda v: v >= 1, "at least 1"),
-    "generations": (lambda v: v >= 0, "at least 0"),
-    "genome": (lambda v: v >= 1, "at least 1"),
-    "runs": (lambda v: v >= 1, "at least 1"),
-    "seed": (lambda v: v >= 0, "at least 0"),
-    "elitism": (lambda v: v >= 0, "at least 0"),
-    "best": (lambda v: v >= 1, "at least 1"),
-    "wraps": (lambda v: v >= 0, "at least 0"),
-    "tournament": (lambda v: v >= 1, "at least 1"),
+    # Upper bounds keep counts within 64-bit integers and runs within reach of one machine;
+    # Evolution also bounds population x genome (MAX_CODONS), what the arrays hold.
+    "population": (lambda v: 1 <= v <= 1_000_000, "from 1 to 1000000"),
+    "generations": (lambda v: 0 <= v <= 1_000_000, "from 0 to 1000000"),
+    "genome": (lambda v: 1 <= v <= 10_000, "from 1 to 10000"),
+    "runs": (lambda v: 1 <= v <= 10_000, "from 1 to 10000"),
+    "seed": (lambda v: 0 <= v <= SEED_MAX, f"from 0 to {SEED_MAX}"),
+    "elitism": (lambda v: 0 <= v <= 1_000_000, "from 0 to 1000000"),
+    "best": (lambda v: 1 <= v <= 1_000, "from 1 to 1000"),
+    "wraps": (lambda v: 0 <= v <= 100, "from 0 to 100"),
+    "tournament": (lambda v: 1 <= v <= 1_000_000, "from 1 to 1000000"),
     "truncation": (lambda v: 0 < v <= 1, "within (0, 1]"),
     "crossover": (lambda v: 0 <= v <= 1, "within [0, 1]"),
     "mutation": (lambda v: 0 <= v <= 1, "within [0, 1]"),
-    "codon_max": (lambda v: v >= 1, "at least 1"),
+    "codon_max": (lambda v: 1 <= v <= CODON_MAX, f"from 1 to {CODON_MAX}"),
 }
 """Each evolution setting's bounds and how to say them: the one table the language, the
 command-line overrides, sweeps and ``spec.json`` are checked against."""
@@ -233,6 +246,11 @@ class Evolution:
             problem = out_of_bounds(key, value)
             if problem is not None:
                 raise ValueError(f"{key} {problem}, got {value}")
+        if self.population * self.genome > MAX_CODONS:
+            raise ValueError(
+                f"population x genome must be at most {MAX_CODONS} codons, got "
+                f"{self.population} x {self.genome}"
+            )
         if self.selection not in ("truncation", "tournament"):
             raise ValueError(f"selection must be truncation or tournament, got {self.selection!r}")
         if self.consume not in ("eager", "lazy"):
