@@ -57,7 +57,7 @@ def test_the_page_is_self_contained_and_shows_every_best_scenario(factory_run):
     gallery = [image for image in page.images if (image.get("alt") or "").startswith("run ")]
     assert len(gallery) == len(run.scenarios) == 8
     for image in gallery:
-        assert svg_of(image).findall(f"{SVG}polygon")  # a scenario drawing, elements and all
+        assert list(svg_of(image).iter(f"{SVG}polygon"))  # a scenario drawing, elements and all
     assert "run 2, #4" in {(image.get("alt") or "").split(" · ")[0] for image in gallery}
     charts = [image for image in page.images if image not in gallery]
     assert [image.get("alt") for image in charts] == ["fitness per generation", "distributions"]
