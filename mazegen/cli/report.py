@@ -1,4 +1,4 @@
-"""``mazegen report RUN_DIR [-o report.html]``: one HTML page about a run."""
+"""``mazegen report RUN_DIR|SUITE_DIR|SWEEP_DIR [-o report.html]``: one HTML page about a folder."""
 
 from __future__ import annotations
 
@@ -11,26 +11,27 @@ from mazegen.errors import MazeError
 
 
 @click.command()
-@click.argument("run_dir", type=click.Path(exists=True, file_okay=False, path_type=Path))
+@click.argument("folder", type=click.Path(exists=True, file_okay=False, path_type=Path))
 @click.option(
     "-o",
     "--out",
     type=click.Path(dir_okay=False, path_type=Path),
-    help="HTML file to write (default RUN_DIR/report.html).",
+    help="HTML file to write (default FOLDER/report.html).",
 )
 @click.option("--force", is_flag=True, help="Replace an existing report.")
 @reports_errors
-def report(run_dir: Path, out: Path | None, force: bool) -> None:
-    """Write a self-contained HTML report of RUN_DIR: settings, gallery, fitness, distributions."""
+def report(folder: Path, out: Path | None, force: bool) -> None:
+    """Write a self-contained HTML report of FOLDER (a run, suite or sweep folder): settings, the
+    best scenarios (linked to their pictures and JSON files), fitness and distributions."""
     from mazegen.fileio import write_atomic
-    from mazegen.runtime.report import read_run, report_html
+    from mazegen.runtime.report_folders import folder_report
 
-    target = out or run_dir / "report.html"
+    target = out or folder / "report.html"
     if target.exists() and not force:
         raise MazeError(
             "already exists (use --force to replace it, or -o to choose another)", filename=str(target)
         )
-    page = report_html(read_run(run_dir))
+    page = folder_report(folder, links_from=target.parent)
     try:
         write_atomic(target, page)
     except OSError as error:

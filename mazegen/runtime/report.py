@@ -1,17 +1,18 @@
 """A run directory as one self-contained HTML page.
 
-The page shows the run's settings, a gallery of its best scenarios, the fitness
+The page shows the run's settings as the spec writes them, a table of its runs,
+the best scenario of each run (a drawing linked to the full picture and the JSON
+file, its metrics and its phenotype), a table of every best scenario, the fitness
 per generation (best, mean and median; their mean and range across runs when
 there are several) and the difficulty and element-count distributions of the best
-scenarios. Pictures are inlined as ``data:`` URIs, charts are drawn with
-matplotlib, and the same run directory always gives the same page.
+scenarios. Drawings and charts are inlined as ``data:`` URIs (charts drawn with
+matplotlib); the other best scenarios are one table row each, so that a page of
+many runs stays small. The same run directory always gives the same page.
 """
 
 from __future__ import annotations
 
-import base64
 import csv
-import html
 import io
 import json
 import warnings
@@ -26,25 +27,13 @@ from matplotlib.figure import Figure
 
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.runtime.render import scenario_svg
+from mazegen.runtime.report_html import Saved, data_uri, e, gallery, page, scenarios_table, spec_html, table
 from mazegen.runtime.scenario import read_document
+from mazegen.spec import Spec
 
 STATISTICS = ("best", "mean", "median")
 """The fitness columns of ``stats.csv`` the report plots."""
 _COLOURS = {"best": "#1b4f72", "mean": "#b9770e", "median": "#7d3c98"}
-_GALLERY_PIXELS = 360
-_STYLE = """
-body { font-family: sans-serif; margin: 1.5em auto; max-width: 1200px; color: #222; padding: 0 1em; }
-h1 { font-size: 1.6em; margin-bottom: 0.2em; } h2 { margin-top: 1.6em; border-bottom: 1px solid #ccc; }
-table { border-collapse: collapse; margin: 0.5em 1.5em 0.5em 0; font-size: 0.9em; vertical-align: top; }
-td, th { border: 1px solid #ddd; padding: 0.2em 0.6em; text-align: left; }
-th { background: #f3f3f3; } .tables { display: flex; flex-wrap: wrap; align-items: flex-start; }
-.gallery { display: grid; grid-template-columns: repeat(auto-fill, minmax(290px, 1fr)); gap: 1em; }
-figure { margin: 0; border: 1px solid #ddd; padding: 0.4em; background: #fafafa; }
-figure img { width: 100%; height: auto; display: block; }
-figcaption { font-size: 0.85em; margin-top: 0.3em; overflow-wrap: anywhere; }
-.chart { max-width: 100%; height: auto; }
-"""
 
 
 @dataclass(frozen=True)
@@ -54,18 +43,18 @@ class RunDirectory:
     Attributes:
         path: The run directory.
         experiment: ``experiment.json``: settings, seeds and versions.
-        spec: ``experiment/spec.json`` as plain JSON, or None when absent.
+        spec: ``experiment/spec.json``, or None when absent.
         stats: ``stats.csv``: one dict per run and generation.
         seconds: Wall-clock seconds of each run, when recorded (``stats.csv`` or ``timing.csv``).
-        scenarios: ``(run number, document)`` of every ``run-NN/best-KK.json``, in run and rank order.
+        scenarios: ``(run number, scenario)`` of every ``run-NN/best-KK.json``, in run and rank order.
     """
 
     path: Path
     experiment: dict[str, Any]
-    spec: dict[str, Any] | None
+    spec: Spec | None
     stats: list[dict[str, str]]
     seconds: dict[int, float]
-    scenarios: list[tuple[int, dict[str, Any]]]
+    scenarios: list[tuple[int, Saved]]
 
     @property
     def runs(self) -> list[int]:
@@ -99,7 +88,7 @@ def read_run(path: Path) -> RunDirectory:
             'not a run record (expected "format": "mazegen-run")', filename=str(path / "experiment.json")
         )
     spec_path = path / "experiment" / "spec.json"
-    spec = _json(spec_path, "spec.json") if spec_path.is_file() else None
+    spec = read_spec(spec_path) if spec_path.is_file() else None
     stats = _rows(path / "stats.csv")
     needed = {"run", "generation", *STATISTICS}
     counted = all(row["run"].isdigit() and row["generation"].isdigit() for row in stats)
@@ -107,12 +96,26 @@ def read_run(path: Path) -> RunDirectory:
         raise MazeError(
             f"damaged stats.csv (want the columns {', '.join(sorted(needed))})", filename=str(path)
         )
-    scenarios = [
-        (int(file.parent.name.removeprefix("run-")), read_document(file))
-        for file in sorted(path.glob("run-*/best-*.json"))
-        if file.parent.name.removeprefix("run-").isdigit()
-    ]
+    scenarios = []
+    for file in sorted(path.glob("run-*/best-*.json")):
+        number, rank = file.parent.name.removeprefix("run-"), file.stem.removeprefix("best-")
+        if number.isdigit() and rank.isdigit():
+            scenarios.append(
+                (int(number), Saved(f"run {int(number)}, #{int(rank)}", file, read_document(file)))
+            )
     return RunDirectory(path, experiment, spec, stats, _seconds(path, stats), scenarios)
+
+
+def read_spec(path: Path) -> Spec:
+    """A ``spec.json`` written by ``mazegen build``, ``run`` or ``suite``.
+
+    Raises:
+        MazeError: For a damaged file.
+    """
+    try:
+        return Spec.from_json(read_text(path, "spec.json"))
+    except (ValueError, KeyError, TypeError, AttributeError) as error:
+        raise MazeError(f"damaged spec.json: {error}", filename=str(path)) from None
 
 
 def _rows(path: Path) -> list[dict[str, str]]:
@@ -209,56 +212,15 @@ def distribution_chart(documents: list[dict[str, Any]]) -> bytes:
     return _svg_bytes(figure)
 
 
-def _data_uri(svg: bytes) -> str:
-    return "data:image/svg+xml;base64," + base64.b64encode(svg).decode("ascii")
-
-
-def _e(value: Any) -> str:
-    return html.escape(str(value))
-
-
-def _table(rows: list[tuple[str, Any]], caption: str) -> str:
-    body = "".join(f"<tr><th>{_e(key)}</th><td>{_e(value)}</td></tr>" for key, value in rows)
-    return f"<table><caption>{_e(caption)}</caption>{body}</table>"
-
-
 def _settings(run: RunDirectory) -> str:
     record = run.experiment
-    tables = [
-        _table(
-            [
-                ("scenario", record.get("scenario")),
-                ("source", record.get("source")),
-                ("runs", len(run.runs)),
-                *(
-                    (f"{name} version", version)
-                    for name, version in sorted(record.get("versions", {}).items())
-                ),
-            ],
-            "experiment",
-        ),
-        _table(sorted(record.get("evolution", {}).items()), "evolution"),
-    ]
-    if run.spec is not None:
-        arena = run.spec.get("arena", {})
-        unit = arena.get("unit", "")
-        rows = [
-            ("size", f"{arena.get('width')} x {arena.get('height')} {unit}"),
-            ("start", arena.get("start")),
-            ("goal", arena.get("goal")),
-            ("robot radius", f"{arena.get('robot_radius')} {unit}"),
-            ("elements", ", ".join(run.spec.get("scenario", {}).get("elements", []))),
-        ]
-        rows += [(f"fitness: {term.get('kind')}", _term(term)) for term in run.spec.get("fitness", [])]
-        tables.append(_table(rows, f"arena {arena.get('name', '')}"))
-    return f'<div class="tables">{"".join(tables)}</div>'
-
-
-def _term(term: dict[str, Any]) -> str:
-    """A fitness term's settings that differ from a plain term: ``weight 0.5, reject``."""
-    parts = [] if term.get("weight") == 1.0 else [f"weight {term.get('weight')}"]
-    parts += [f"{key} {term[key]}" for key in ("limit", "target", "metric") if term.get(key) is not None]
-    return ", ".join(parts + (["reject"] if term.get("reject") else [])) or "-"
+    versions = sorted(record.get("versions", {}).items())
+    rows = [("scenario", record.get("scenario")), ("source", record.get("source")), ("runs", len(run.runs))]
+    experiment = table([*rows, *((f"{name} version", version) for name, version in versions)], "experiment")
+    spec = (
+        spec_html(run.spec) if run.spec is not None else "<p>No experiment/spec.json: settings unknown.</p>"
+    )
+    return f'<div class="tables">{experiment}</div>{spec}'
 
 
 def _runs_table(run: RunDirectory) -> str:
@@ -268,67 +230,52 @@ def _runs_table(run: RunDirectory) -> str:
     for number in run.runs:
         stats = [row for row in run.stats if int(row["run"]) == number]
         last = max(stats, key=lambda row: int(row["generation"]))
-        documents = [d for n, d in run.scenarios if n == number]
+        documents = [saved.document for n, saved in run.scenarios if n == number]
         solvable = sum(bool(d.get("metrics", {}).get("solvable")) for d in documents)
         best, mean = (_number(last[key]) for key in ("best", "mean"))
         seconds = f"{run.seconds[number]:.2f}" if number in run.seconds else "-"
         cells = [number, f"{best:.4g}", f"{mean:.4g}", len(documents), solvable, seconds]
-        rows.append("<tr>" + "".join(f"<td>{_e(cell)}</td>" for cell in cells) + "</tr>")
+        rows.append("<tr>" + "".join(f"<td>{e(cell)}</td>" for cell in cells) + "</tr>")
     return f"<table>{head}{''.join(rows)}</table>"
 
 
-def _caption(number: int, document: dict[str, Any]) -> str:
-    metrics = document.get("metrics", {})
-    rank = document.get("origin", {}).get("rank", "?")
-    fitness = document.get("fitness")
-    parts = [
-        f"run {number}, #{rank}",
-        f"fitness {fitness:g}" if isinstance(fitness, (int, float)) else "no fitness",
-        f"{len(document['elements'])} elements",
-    ]
-    if metrics.get("solvable"):
-        parts.append(f"difficulty {metrics.get('difficulty', 0):.1f}")
-    elif "solvable" in metrics:
-        parts.append("no path")
-    return " · ".join(parts)
+def best_of_each_run(run: RunDirectory) -> list[Saved]:
+    """The first-ranked scenario of every run that wrote one."""
+    firsts: dict[int, Saved] = {}
+    for number, saved in run.scenarios:
+        firsts.setdefault(number, saved)
+    return list(firsts.values())
 
 
-def _gallery(run: RunDirectory) -> str:
-    if not run.scenarios:
-        return "<p>No valid scenario was written.</p>"
-    figures = []
-    for number, document in run.scenarios:
-        caption, picture = _e(_caption(number, document)), scenario_svg(document, pixels=_GALLERY_PIXELS)
-        figures.append(
-            f'<figure><img alt="{caption}" src="{_data_uri(picture.encode("utf-8"))}"><figcaption>{caption}'
-            f"<br><code>{_e(document.get('phenotype') or '')}</code></figcaption></figure>"
-        )
-    return f'<div class="gallery">{"".join(figures)}</div>'
-
-
-def report_html(run: RunDirectory) -> str:
-    """The whole report page of a run directory."""
-    name = run.experiment.get("scenario", run.path.name)
-    documents = [d for _, d in run.scenarios]
-    sections = [
-        f"<h1>MazeGen run: {_e(name)}</h1>",
-        f"<p>{len(run.runs)} run(s), {len(documents)} best scenarios, "
-        f"from <code>{_e(run.path.name)}</code>.</p>",
-        "<h2>Settings</h2>",
-        _settings(run),
+def run_sections(run: RunDirectory, links_from: Path, *, level: int = 2) -> list[str]:
+    """The runs, the best scenario of each, every best scenario, fitness and distributions."""
+    h = f"h{level}"
+    scenarios = [saved for _, saved in run.scenarios]
+    documents = [saved.document for saved in scenarios]
+    return [
         _runs_table(run),
-        "<h2>Best scenarios</h2>",
-        _gallery(run),
-        "<h2>Fitness per generation</h2>",
-        f'<img class="chart" alt="fitness per generation" src="{_data_uri(fitness_chart(run))}">',
-        "<h2>Difficulty and elements of the best scenarios</h2>",
-        f'<img class="chart" alt="distributions" src="{_data_uri(distribution_chart(documents))}">'
+        f"<{h}>Best scenario of each run</{h}>",
+        gallery(best_of_each_run(run), links_from),
+        f"<{h}>Every best scenario</{h}>",
+        scenarios_table(scenarios, links_from) if scenarios else "<p>No valid scenario was written.</p>",
+        f"<{h}>Fitness per generation</{h}>",
+        f'<img class="chart" alt="fitness per generation" src="{data_uri(fitness_chart(run))}">',
+        f"<{h}>Difficulty and elements of the best scenarios</{h}>",
+        f'<img class="chart" alt="distributions" src="{data_uri(distribution_chart(documents))}">'
         if documents
         else "<p>No scenario to count.</p>",
     ]
-    return (
-        '<!DOCTYPE html>\n<html lang="en">\n<head>\n<meta charset="utf-8">\n'
-        f"<title>MazeGen run: {_e(name)}</title>\n<style>{_STYLE}</style>\n</head>\n<body>\n"
-        + "\n".join(sections)
-        + "\n</body>\n</html>\n"
-    )
+
+
+def report_html(run: RunDirectory, *, links_from: Path | None = None) -> str:
+    """The whole report page of a run directory, its links relative to ``links_from`` (default: the run)."""
+    name = run.experiment.get("scenario", run.path.name)
+    sections = [
+        f"<h1>MazeGen run: {e(name)}</h1>",
+        f"<p>{len(run.runs)} run(s), {len(run.scenarios)} best scenarios, "
+        f"from <code>{e(run.path.name)}</code>.</p>",
+        "<h2>Settings</h2>",
+        _settings(run),
+        *run_sections(run, links_from or run.path),
+    ]
+    return page(f"MazeGen run: {name}", sections)

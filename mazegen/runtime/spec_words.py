@@ -1,0 +1,131 @@
+"""A resolved spec's settings in the words of the .maze language.
+
+Reports show settings as a spec writes them (``codons 0..255``, ``selection
+truncation 0.1``, ``solvable required``), not by their field names in
+``spec.json`` (``codon_max``, ``truncation``, ``reject``), and only those that
+apply: a truncation spec has no tournament size.
+"""
+
+from __future__ import annotations
+
+from mazegen.spec import DIFFICULTY_LEVELS, Arena, Evolution, FitnessTerm, Scenario, Spec
+
+_INDENT = "    "
+
+
+def number(value: float) -> str:
+    """A number as the language writes it: ``1400`` rather than ``1400.0``, ``0.05`` as is."""
+    return str(int(value)) if float(value).is_integer() and abs(value) < 1e15 else repr(float(value))
+
+
+def _span(low: float, high: float) -> str:
+    return f"{number(low)}..{number(high)}"
+
+
+def _weighted(words: str, weight: float) -> str:
+    return words if weight == 1.0 else f"{words} weight {number(weight)}"
+
+
+def _penalty(weight: float) -> str:
+    return f"penalty {number(weight)}"
+
+
+def term_words(term: FitnessTerm) -> str:
+    """One fitness term as the ``fitness`` block writes it: ``overlap penalty 0.5``."""
+    low, high = term.target or (0.0, 0.0)
+    if term.kind == "count":
+        return _weighted("count", term.weight)
+    if term.kind == "overlap":
+        return "overlap reject" if term.reject else f"overlap {_penalty(term.weight)}"
+    if term.kind == "size_limit":
+        return f"size limit {number(term.limit or 0.0)} {'reject' if term.reject else _penalty(term.weight)}"
+    if term.kind == "outside":
+        if term.reject:
+            return "outside reject"
+        return "outside allow" if term.weight == 0 else f"outside {_penalty(term.weight)}"
+    if term.kind == "solvable":
+        return "solvable required" if term.reject else f"solvable {_penalty(term.weight)}"
+    if term.kind == "difficulty":
+        levels = {span: level for level, span in DIFFICULTY_LEVELS.items()}
+        level = levels.get((low, high))
+        return _weighted(
+            f"difficulty target {level}" if level else f"difficulty {_span(low, high)}", term.weight
+        )
+    if term.kind == "diversity":
+        return _weighted("diversity entropy" if term.metric == "entropy" else "diversity", term.weight)
+    name = term.metric if term.kind == "metric" and term.metric else term.kind  # a metric, or coverage
+    return _weighted(f"{name} {_span(low, high)}", term.weight)
+
+
+def evolution_words(evolution: Evolution) -> list[str]:
+    """The ``evolution`` block's settings, one per item: ``population 1000``, ``codons 0..255``."""
+    selection = (
+        f"selection tournament {evolution.tournament}"
+        if evolution.selection == "tournament"
+        else f"selection truncation {number(evolution.truncation)}"
+    )
+    return [
+        f"population {evolution.population}",
+        f"generations {evolution.generations}",
+        f"genome {evolution.genome}",
+        selection,
+        f"crossover {number(evolution.crossover)}",
+        f"mutation {number(evolution.mutation)}",
+        f"elitism {evolution.elitism}",
+        f"runs {evolution.runs}",
+        f"seed {evolution.seed}",
+        f"codons 0..{evolution.codon_max}",
+        f"wraps {evolution.wraps}",
+        f"consume {evolution.consume}",
+        f"best {evolution.best}",
+    ]
+
+
+def arena_words(arena: Arena) -> list[str]:
+    """The ``arena`` block's settings."""
+    words = [
+        f"size {number(arena.width)} x {number(arena.height)} {arena.unit}",
+        f"start ({number(arena.start[0])}, {number(arena.start[1])})",
+        f"goal ({number(arena.goal[0])}, {number(arena.goal[1])})",
+        f"robot radius {number(arena.robot_radius)}",
+    ]
+    return words + ([f"grid {number(arena.grid)}"] if arena.grid is not None else [])
+
+
+def _steps(values: tuple[int, ...]) -> str:
+    """``LOW..HIGH [step S]`` of an evenly spaced run of whole numbers."""
+    step = values[1] - values[0] if len(values) > 1 else 1
+    return f"{values[0]}..{values[-1]}" + (f" step {step}" if step != 1 else "")
+
+
+def scenario_words(scenario: Scenario) -> list[str]:
+    """The ``scenario`` block's settings; a custom grammar by its rule count (rules: grammar.bnf)."""
+    grammar = scenario.grammar
+    if grammar == "custom":
+        grammar = f"custom {{ ... }}  // {len(scenario.custom_rules)} rules, see experiment/grammar.bnf"
+    words = [
+        f"elements {', '.join(scenario.elements)}",
+        f"grammar {grammar}",
+        f"max elements {scenario.max_elements}",
+    ]
+    placement = scenario.placement
+    if placement is not None:
+        scale = f" scale {number(placement.scale)}" if placement.scale != 1 else ""
+        sizes, positions = _steps(placement.sizes), _steps(placement.positions)
+        words.append(f"placement grammar sizes {sizes}{scale} positions {positions}")
+    return words
+
+
+def spec_blocks(spec: Spec) -> list[tuple[str, list[str]]]:
+    """The spec's blocks as ``(header, settings)``: arena, scenario, fitness and evolution."""
+    return [
+        (f"arena {spec.arena.name}", arena_words(spec.arena)),
+        (f"scenario {spec.scenario.name} on {spec.scenario.arena}", scenario_words(spec.scenario)),
+        ("fitness", [term_words(term) for term in spec.fitness]),
+        ("evolution", evolution_words(spec.evolution)),
+    ]
+
+
+def block_text(header: str, settings: list[str]) -> str:
+    """One block as .maze text: ``header {``, a setting per line, ``}``."""
+    return "\n".join([f"{header} {{", *(_INDENT + words for words in settings), "}"])
