@@ -22,6 +22,7 @@ from typing import Any
 from PIL import ImageColor
 
 from mazegen.errors import MazeError
+from mazegen.spec import Arena
 
 Point = tuple[float, float]
 RGB = tuple[int, int, int]
@@ -55,12 +56,7 @@ class Scene:
     """What the picture shows of a scenario document."""
 
     name: str
-    width: float
-    height: float
-    unit: str
-    start: Point
-    goal: Point
-    radius: float
+    arena: Arena
     elements: tuple[_Element, ...]
     fitness: str
     path: tuple[Point, ...]
@@ -152,12 +148,15 @@ def parse(doc: dict) -> Scene:
         metrics = doc.get("metrics")
         return Scene(
             name=label(doc.get("scenario", "scenario")),
-            width=width,
-            height=height,
-            unit=label(arena.get("unit", ""), 12),
-            start=_point(arena["start"]),
-            goal=_point(arena["goal"]),
-            radius=max(0.0, _number(arena.get("robot_radius", 0.0))),
+            arena=Arena(
+                name=label(arena.get("name", "")),
+                width=width,
+                height=height,
+                unit=label(arena.get("unit", ""), 12),
+                start=_point(arena["start"]),
+                goal=_point(arena["goal"]),
+                robot_radius=max(0.0, _number(arena.get("robot_radius", 0.0))),
+            ),
             elements=tuple(elements),
             fitness=f"{fitness:.4g}" if isinstance(fitness, (int, float)) else "n/a",
             path=tuple(_point(p) for p in path) if len(path) >= 2 else (),
@@ -203,22 +202,24 @@ def layout(scene: Scene, pixels: int) -> Picture:
     pad, side, tick = 12 * u, 200 / 13 * font, 0.4 * font
     row, title_h = 1.6 * font, pad + 1.8 * font
     char = 0.6 * font  # the width of a digit, about
-    digits = max(len(f"{scene.height:.{_decimals(_nice_length(scene.height / 4))}f}"), 1)
+    digits = max(len(f"{scene.arena.height:.{_decimals(_nice_length(scene.arena.height / 4))}f}"), 1)
     ox, oy = pad + tick + 0.3 * font + digits * char, title_h + 0.5 * font
     bottom_h = tick + 1.3 * font + 2.4 * font + pad  # tick labels, then the scale bar
     gap = pad + 3 * char  # room for the last x tick label's right half
-    k = min((pixels - ox - gap - side - pad) / scene.width, (pixels - oy - bottom_h) / scene.height)
+    k = min(
+        (pixels - ox - gap - side - pad) / scene.arena.width, (pixels - oy - bottom_h) / scene.arena.height
+    )
     types = Counter(e.kind for e in scene.elements)
     max_rows = int((pixels - title_h - pad) / row)
-    width = round(ox + k * scene.width + gap + side + pad)
+    width = round(ox + k * scene.arena.width + gap + side + pad)
     legend_rows = len(types) + 2 + bool(scene.path or scene.unsolvable)  # types, start, goal, path
     legend_h = title_h + min(legend_rows, max_rows) * row
-    height = min(pixels, round(max(oy + k * scene.height + bottom_h, legend_h)))
+    height = min(pixels, round(max(oy + k * scene.arena.height + bottom_h, legend_h)))
 
     def at(p: Point) -> Point:
-        return ox + k * p[0], oy + k * (scene.height - p[1])
+        return ox + k * p[0], oy + k * (scene.arena.height - p[1])
 
-    frame = (at((0, scene.height)), at((scene.width, 0)))
+    frame = (at((0, scene.arena.height)), at((scene.arena.width, 0)))
     title = label(scene.title, int((width - 2 * pad) / (0.7 * font)))
     shapes = [
         Shape("rect", ((0, 0), (width, height)), fill=PAPER),
@@ -228,7 +229,7 @@ def layout(scene: Scene, pixels: int) -> Picture:
         Shape("rect", frame, stroke=INK, width=2 * u),
         *_axes(scene, at, k, u, font, tick),
         *_legend(scene, types, (width - pad - side, title_h), side, max_rows, u, font),
-        *_scale_bar(scene, (ox, oy + k * scene.height + tick + 3.2 * font), frame[1][0], k, u, font),
+        *_scale_bar(scene, (ox, oy + k * scene.arena.height + tick + 3.2 * font), frame[1][0], k, u, font),
     ]
     return Picture(width, height, frame, tuple(shapes))
 
@@ -252,8 +253,8 @@ def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> l
         shapes.append(
             Shape("polyline", tuple(at(p) for p in scene.path), stroke=PATH, width=2.5 * u, group="elements")
         )
-    radius = max(3.0, k * scene.radius)
-    for point, colour in ((scene.start, START), (scene.goal, GOAL)):
+    radius = max(3.0, k * scene.arena.robot_radius)
+    for point, colour in ((scene.arena.start, START), (scene.arena.goal, GOAL)):
         shapes.append(
             Shape(
                 "circle",
@@ -267,7 +268,7 @@ def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> l
             )
         )
     if scene.unsolvable:
-        shapes += _no_path_mark(at(scene.start), at(scene.goal), u, font)
+        shapes += _no_path_mark(at(scene.arena.start), at(scene.arena.goal), u, font)
     return shapes
 
 
@@ -303,14 +304,14 @@ def _no_path_mark(start: Point, goal: Point, u: float, font: float) -> list[Shap
 def _axes(scene: Scene, at: Any, k: float, u: float, font: float, tick: float) -> list[Shape]:
     """Ticks and coordinates along the arena's bottom (x) and left (y) edges."""
     shapes = []
-    longest = max(len(f"{scene.width:g}"), 1) * 0.6 * font
-    for value, text in _ticks(scene.width, k, longest + font):
+    longest = max(len(f"{scene.arena.width:g}"), 1) * 0.6 * font
+    for value, text in _ticks(scene.arena.width, k, longest + font):
         x, y = at((value, 0))
         shapes += [
             Shape("line", ((x, y), (x, y + tick)), stroke=INK, width=u),
             Shape("text", ((x, y + tick + font),), fill=INK, width=font, text=text, anchor="middle"),
         ]
-    for value, text in _ticks(scene.height, k, 3 * font):
+    for value, text in _ticks(scene.arena.height, k, 3 * font):
         x, y = at((0, value))
         shapes += [
             Shape("line", ((x - tick, y), (x, y)), stroke=INK, width=u),
@@ -339,7 +340,7 @@ def _legend(
     entries += [("circle", "start", START), ("circle", "goal", GOAL)]
     if scene.path:
         travelled = sum(math.dist(a, b) for a, b in itertools.pairwise(scene.path))
-        entries.append(("line", f"path ({_with_unit(travelled, scene.unit)})", PATH))
+        entries.append(("line", f"path ({_with_unit(travelled, scene.arena.unit)})", PATH))
     elif scene.unsolvable:
         entries.append(("line", "no path", NO_PATH))
     if len(entries) > max_rows:
@@ -367,7 +368,7 @@ def _legend(
 def _scale_bar(scene: Scene, origin: Point, right: float, k: float, u: float, font: float) -> list[Shape]:
     """A bar a quarter of the arena's width or less, long a round number of units, and the axes' unit
     at the arena's ``right`` edge."""
-    length = _nice_length(scene.width / 4)
+    length = _nice_length(scene.arena.width / 4)
     (x0, y0), tick = origin, 0.4 * font
     x1 = x0 + k * length
     unit = [
@@ -376,12 +377,12 @@ def _scale_bar(scene: Scene, origin: Point, right: float, k: float, u: float, fo
             ((right, y0 + 0.35 * font),),
             fill=INK,
             width=font,
-            text=f"x, y in {scene.unit}",
+            text=f"x, y in {scene.arena.unit}",
             anchor="end",
         )
     ]
     return [
-        *(unit if scene.unit else []),
+        *(unit if scene.arena.unit else []),
         Shape("line", ((x0, y0), (x1, y0)), stroke=INK, width=2 * u),
         Shape("line", ((x0, y0 - tick), (x0, y0 + tick)), stroke=INK, width=2 * u),
         Shape("line", ((x1, y0 - tick), (x1, y0 + tick)), stroke=INK, width=2 * u),
@@ -390,7 +391,7 @@ def _scale_bar(scene: Scene, origin: Point, right: float, k: float, u: float, fo
             ((x1 + 0.6 * font, y0 + 0.35 * font),),
             fill=INK,
             width=font,
-            text=_with_unit(length, scene.unit),
+            text=_with_unit(length, scene.arena.unit),
         ),
     ]
 
