@@ -190,7 +190,13 @@ def _ticks(length: float, scale: float, gap: float) -> list[tuple[float, str]]:
     while step * scale < gap:
         step = _nice_length(step * 2.5)
     count = math.floor(length / step + 1e-9)
-    return [(i * step, f"{i * step:.{_decimals(step)}f}") for i in range(count + 1)]
+    return [(i * step, _coordinate(i * step, step)) for i in range(count + 1)]
+
+
+def _coordinate(value: float, step: float) -> str:
+    """A tick's label: as many decimals as the step needs, or three digits and an exponent when long."""
+    text = f"{value:.{_decimals(step)}f}"
+    return text if len(text) <= 8 else f"{value:.3g}"
 
 
 def layout(scene: Scene, pixels: int) -> Picture:
@@ -202,7 +208,7 @@ def layout(scene: Scene, pixels: int) -> Picture:
     pad, side, tick = 12 * u, 200 / 13 * font, 0.4 * font
     row, title_h = 1.6 * font, pad + 1.8 * font
     char = 0.6 * font  # the width of a digit, about
-    digits = max(len(f"{scene.arena.height:.{_decimals(_nice_length(scene.arena.height / 4))}f}"), 1)
+    digits = len(_coordinate(scene.arena.height, _nice_length(scene.arena.height / 20)))
     ox, oy = pad + tick + 0.3 * font + digits * char, title_h + 0.5 * font
     bottom_h = tick + 1.3 * font + 2.4 * font + pad  # tick labels, then the scale bar
     gap = pad + 3 * char  # room for the last x tick label's right half
@@ -304,7 +310,7 @@ def _no_path_mark(start: Point, goal: Point, u: float, font: float) -> list[Shap
 def _axes(scene: Scene, at: Any, k: float, u: float, font: float, tick: float) -> list[Shape]:
     """Ticks and coordinates along the arena's bottom (x) and left (y) edges."""
     shapes = []
-    longest = max(len(f"{scene.arena.width:g}"), 1) * 0.6 * font
+    longest = len(_coordinate(scene.arena.width, _nice_length(scene.arena.width / 20))) * 0.6 * font
     for value, text in _ticks(scene.arena.width, k, longest + font):
         x, y = at((value, 0))
         shapes += [

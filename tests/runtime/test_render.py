@@ -388,7 +388,7 @@ def test_axes_have_ticks_in_the_arena_unit(doc: dict) -> None:
     assert "x, y in cm" in texts(svg)
     small = scenario_svg(document(width=3.0, height=2.0))
     fractions = [t for t in texts(small) if re.fullmatch(r"\d\.\d", t)]
-    assert "0.0" in fractions and "1.4" in fractions and "3.0" in fractions
+    assert "0.0" in fractions and "2.5" in fractions and "3.0" in fractions
 
 
 def test_any_css_colour_draws(doc: dict) -> None:
@@ -398,3 +398,17 @@ def test_any_css_colour_draws(doc: dict) -> None:
     assert scenario_png(doc)
     fills = [p.get("fill") for p in polygons(scenario_svg(doc))][-3:]
     assert fills == ["#ff0000", "#ff0000", "#555555"]
+
+
+@pytest.mark.parametrize("width", [0.003, 3.0, 1400.0, 123456.0, 1e300])
+def test_tick_labels_stay_short_and_apart(width: float) -> None:
+    svg = scenario_svg(document(width=width, height=width * 0.75))
+    x0, _, x1, y1 = frame_of(svg)
+    below = [t for t in ET.fromstring(svg).iter(f"{SVG}text") if t.get("text-anchor") == "middle"]
+    below = [t for t in below if float(t.get("y", "0")) > y1]
+    assert len(below) >= 3
+    assert all(len(t.text or "") <= 8 for t in below)
+    xs = [float(t.get("x", "0")) for t in below]
+    widest = max(len(t.text or "") for t in below) * 0.6 * 13  # pixels, about, at font size 13
+    assert min(b - a for a, b in itertools.pairwise(xs)) > widest
+    assert x0 - 1 <= xs[0] and xs[-1] <= x1 + 1
