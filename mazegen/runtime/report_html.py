@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from mazegen.runtime.render import scenario_svg
-from mazegen.runtime.spec_words import block_text, number, spec_blocks
+from mazegen.runtime.spec_words import block_text, spec_blocks
 from mazegen.spec import Spec
 
 THUMBNAIL_PIXELS = 480
@@ -123,7 +123,7 @@ def caption(saved: Saved) -> str:
     fitness = document.get("fitness")
     parts = [
         saved.label,
-        f"fitness {number(fitness)}" if isinstance(fitness, (int, float)) else "no fitness",
+        f"fitness {_value(fitness)}" if isinstance(fitness, (int, float)) else "no fitness",
         f"{len(document['elements'])} elements",
     ]
     if metrics.get("solvable"):

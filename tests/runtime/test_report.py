@@ -21,7 +21,7 @@ from mazegen.cli.main import main
 from mazegen.errors import MazeError
 from mazegen.runtime.report import read_run, report_html, statistic_table
 from mazegen.runtime.report_html import THUMBNAIL_PIXELS, phenotype_html
-from mazegen.runtime.spec_words import evolution_words, term_words
+from mazegen.runtime.spec_words import evolution_words, scenario_words, term_words
 from mazegen.runtime.suite import fill_archive, suite_documents, write_suite
 from mazegen.spec import Evolution
 from tests.conftest import EXAMPLES
@@ -285,3 +285,20 @@ def test_a_folder_of_something_else(tmp_path):
     result = CliRunner().invoke(main, ["report", str(tmp_path)])
     assert result.exit_code == 1
     assert "not a run, suite or sweep folder" in result.output
+
+
+def test_scenario_words_of_grammar_placement_and_custom_rules(write_spec):
+    placed = mazegen.load(EXAMPLES / "table1" / "exp1.maze")
+    assert "placement grammar sizes 1..8 scale 50 positions 100..800 step 100" in scenario_words(
+        placed.scenario
+    )
+    custom = mazegen.load(
+        write_spec(
+            "import manufacturing\n"
+            "arena floor { size 1400 x 1050 cm  start (60, 60)  goal (1340, 990) }\n"
+            'scenario s on floor { grammar custom { <scenario> ::= <cell> | <cell> ";" <scenario>\n'
+            "<cell> ::= cobot | cobot router } }\n"
+        )
+    )
+    words = scenario_words(custom.scenario)
+    assert words[0] == "elements cobot, router" and words[1].startswith("grammar custom { ... }  // 2 rules")
