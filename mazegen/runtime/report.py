@@ -15,6 +15,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import warnings
 from collections import Counter
 from dataclasses import dataclass
@@ -247,15 +248,25 @@ def best_of_each_run(run: RunDirectory) -> list[Saved]:
     return list(firsts.values())
 
 
-def run_sections(run: RunDirectory, links_from: Path, *, level: int = 2) -> list[str]:
-    """The runs, the best scenario of each, every best scenario, fitness and distributions."""
+def _fitness(saved: Saved) -> float:
+    fitness = saved.document.get("fitness")
+    return float(fitness) if isinstance(fitness, (int, float)) else -math.inf
+
+
+def run_sections(
+    run: RunDirectory, links_from: Path, *, level: int = 2, one_drawing: bool = False
+) -> list[str]:
+    """The runs, the best scenario of each (or, with ``one_drawing``, the fittest of all: a sweep's
+    page draws one per cell), every best scenario, fitness and distributions."""
     h = f"h{level}"
     scenarios = [saved for _, saved in run.scenarios]
     documents = [saved.document for saved in scenarios]
+    firsts = best_of_each_run(run)
+    drawn = [max(firsts, key=_fitness)] if one_drawing and firsts else firsts
     return [
         _runs_table(run),
-        f"<{h}>Best scenario of each run</{h}>",
-        gallery(best_of_each_run(run), links_from),
+        f"<{h}>{'Fittest scenario' if one_drawing else 'Best scenario of each run'}</{h}>",
+        gallery(drawn, links_from),
         f"<{h}>Every best scenario</{h}>",
         scenarios_table(scenarios, links_from) if scenarios else "<p>No valid scenario was written.</p>",
         f"<{h}>Fitness per generation</{h}>",

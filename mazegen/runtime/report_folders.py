@@ -5,8 +5,8 @@
   spec, the archive's heatmap and every scenario of the suite.
 * A sweep folder (run directories side by side, one per cell, and the catalog they share,
   from ``mazegen sweep``; also a ``runs/`` folder of several runs): one page with a table of
-  the cells, then a section per cell (what sets it apart, its runs, the best scenario of
-  each run, every best scenario, its fitness and distributions).
+  the cells, then a section per cell (what sets it apart, its runs, its fittest scenario
+  drawn, every best scenario a linked table row, its fitness and distributions).
 """
 
 from __future__ import annotations
@@ -115,7 +115,7 @@ def sweep_html(path: Path, cells: list[Path], *, links_from: Path) -> str:
         sections += [
             f'<h2 id="{anchor}">{e(run.path.name)}</h2>',
             f"<p>{e('; '.join(own) or 'the shared settings')}</p>",
-            *run_sections(run, links_from, level=3),
+            *run_sections(run, links_from, level=3, one_drawing=True),
         ]
     first = runs[0] if runs else None
     summary = [
