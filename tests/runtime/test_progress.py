@@ -29,7 +29,7 @@ def test_a_bar_per_run_under_an_overall_bar_with_rates():
         )
     reporter.finish_run((0, 1))
     reporter.generation((0, 1), GenerationStats(3, 500, 9.0, 2.0, 2.0, 0, 500, 0, 0.25))  # late: ignored
-    reporter.generation((0, 2), GenerationStats(2, 100, 3.0, 2.0, 2.0, 0, 100, 0, 0.5))
+    reporter.generation((0, 2), GenerationStats(2, 100, 7.0, 2.0, 2.0, 0, 100, 0, 0.5))
     reporter.finish_run((0, 2))
     reporter.note("a note")
     reporter.close()
@@ -38,6 +38,7 @@ def test_a_bar_per_run_under_an_overall_bar_with_rates():
     first = next(line for line in lines if line.startswith("run 1/2"))
     second = next(line for line in lines if line.startswith("run 2/2"))
     assert "6/6" in overall and "evaluations/s" in overall
+    assert "best 7 " in overall  # the best of every run (run 2's), not the late report's 9
     assert "3/3" in first and "best 6 " in first and "2,000 evaluations/s" in first  # 1,500 in 0.75 s
     assert "3/3" in second and "200 evaluations/s" in second
     assert "a note" in lines
