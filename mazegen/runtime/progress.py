@@ -16,6 +16,7 @@ from typing import Protocol
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeElapsedColumn
 
+from mazegen.runtime import EVERY_RUN_KERNELS
 from mazegen.runtime.evolution import GenerationStats
 
 VISIBLE_RUNS = 16
@@ -47,11 +48,12 @@ FIRST_COMPILE_NOTE = (
 )
 
 
-def note_first_compile(reporter: Reporter) -> None:
-    """Say why a first run's bars stand still for a while: its kernels are not compiled yet."""
+def note_first_compile(reporter: Reporter, *, kernels: tuple[str, ...] = EVERY_RUN_KERNELS) -> None:
+    """Say why a first run's bars stand still for a while: its ``kernels`` (a run's by default, or
+    another command's) are not compiled yet."""
     from mazegen.runtime import kernels_cached
 
-    if not kernels_cached():
+    if not kernels_cached(kernels):
         reporter.note(FIRST_COMPILE_NOTE)
 
 
