@@ -191,6 +191,59 @@ def test_run_refuses_to_overwrite_and_keeps_old_results(tmp_path):
     assert (out / "stats.csv").read_bytes() == before
 
 
+def test_run_ends_saying_where_the_pictures_are(tmp_path):
+    out = tmp_path / "run"
+    result = run_small(out)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[-3:] == [
+        f"wrote {out}",
+        f"pictures: {out}/run-NN/best-KK.svg (as PNG: mazegen export {out} --format png)",
+        f"one page of settings, pictures and plots: mazegen report {out}",
+    ]
+
+
+OVERSIZED = """
+element block { shape square size 400..500 }
+arena small { size 300 x 300 cm  start (30, 30)  goal (270, 270)  robot radius 10 }
+scenario blocks on small { elements block  grammar nested  max elements 8 }
+fitness { count  outside reject }
+evolution { population 40  generations 1  genome GENOME  runs 2 }
+"""
+"""Every element is larger than the arena: no scenario stays inside it."""
+
+
+def test_a_run_without_a_valid_scenario_says_why_and_fails(tmp_path, write_spec):
+    spec = write_spec(OVERSIZED.replace("GENOME", "32"))
+    result = invoke("run", str(spec), "-q", "--executor", "serial", "-o", str(tmp_path / "run"))
+    assert result.exit_code == 1
+    lines = result.stdout.splitlines()
+    assert lines[:2] == [
+        "run 1: no valid scenario; of its final generation's 40 individuals,",
+        "  100 % rejected by outside reject: elements not wholly inside the arena "
+        "(are they larger than the arena, or placed beyond it?)",
+    ]
+    assert lines[2].startswith("run 2: no valid scenario")
+    assert result.stderr.splitlines() == ["no run produced a valid scenario (see why above)"]
+    assert (tmp_path / "run" / "stats.csv").is_file()  # the run itself is whole
+
+
+def test_a_run_of_genomes_too_short_says_so(tmp_path, write_spec):
+    # One codon: half the genomes pick a composed element and run out of codons, the others
+    # make one block, larger than the arena.
+    spec = write_spec(OVERSIZED.replace("GENOME", "1").replace("runs 2", "runs 1"))
+    result = invoke("run", str(spec), "-q", "--executor", "serial", "-o", str(tmp_path / "run"))
+    assert result.exit_code == 1
+    header, *causes = result.stdout.splitlines()[:3]
+    assert header == "run 1: no valid scenario; of its final generation's 40 individuals,"
+    shares = [int(line.split("%")[0]) for line in causes]
+    assert abs(sum(shares) - 100) <= 1 and all(share > 0 for share in shares)  # rounded
+    assert causes[0].endswith(
+        "invalid: the genome ran out of codons before the derivation ended "
+        "(try a longer genome or more wraps)"
+    )
+    assert "rejected by outside reject" in causes[1]
+
+
 def test_run_rejects_population_zero(tmp_path):
     result = invoke(
         "run", str(EXAMPLES / "factory.maze"), "--population", "0", "-q", "-o", str(tmp_path / "r")
