@@ -189,8 +189,7 @@ class Problem:
         Raises:
             MazeError: when the fitness module fails, naming its line.
         """
-        has_terms = callable(getattr(self.fitness_module, "rejections", None))
-        if not has_terms:
+        if not callable(getattr(self.fitness_module, "rejections", None)):
             return {REJECTED: np.asarray(_call_fitness(self.fitness_module, "rejected", population), bool)}
         verdicts = _call_fitness(self.fitness_module, "rejections", population)
         return {key: np.asarray(verdict, dtype=bool) for key, verdict in verdicts.items()}
