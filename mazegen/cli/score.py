@@ -33,7 +33,8 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool) -> None:
 
     A folder stands for every scenario file below it (a run directory's best scenarios).
     A scenario whose arena gives a start and goal is scored on them (a note says so when
-    they are not the spec's).
+    they are not the spec's). A file that cannot be scored is reported on one line and
+    skipped; the exit status is then 1.
     """
     from mazegen.dsl.loader import load_spec
     from mazegen.runtime import SCORE_KERNELS
