@@ -94,6 +94,17 @@ class Arena:
         return max(self.robot_radius / 2, longest / 128)
 
 
+def task_point_problem(label: str, point: Point, width: float, height: float, radius: float) -> str | None:
+    """Why ``point`` cannot be the ``start`` or ``goal`` (``label``) of a ``width x height`` arena for a
+    robot of ``radius``, or None when it can."""
+    x, y = point
+    if not (0 <= x <= width and 0 <= y <= height):
+        return f"{label} ({x:g}, {y:g}) is outside the arena {width:g} x {height:g}"
+    if min(x, y, width - x, height - y) < radius:
+        return f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}"
+    return None
+
+
 @dataclass(frozen=True)
 class GrammarPlacement:
     """Placement carried by the grammar itself (MazeGen 1.0 style).

@@ -16,7 +16,7 @@ def _kernels_cached(monkeypatch):
     their output do not depend on which test ran first (the note has tests of its own)."""
     import mazegen.runtime
 
-    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda: True)
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): True)
 
 
 @pytest.fixture

@@ -23,7 +23,8 @@ def resume(run_dir: Path, quiet: bool, **options: Any) -> None:
     the one before it used); finished runs are written again, identically.
     """
     from mazegen import api
-    from mazegen.runtime.experiment import summary_lines
+    from mazegen.errors import MazeError
+    from mazegen.runtime.experiment import NO_SCENARIO, closing_lines, summary_lines
     from mazegen.runtime.progress import reporter_for
 
     reporter = reporter_for(quiet=quiet)
@@ -31,6 +32,7 @@ def resume(run_dir: Path, quiet: bool, **options: Any) -> None:
         outcome = api.resume(run_dir, reporter=reporter, keep_populations=False, **launch_settings(options))
     finally:
         reporter.close()
-    for line in summary_lines(outcome):
+    for line in [*summary_lines(outcome), *closing_lines(outcome, run_dir)]:
         click.echo(line)
-    click.echo(f"wrote {run_dir}")
+    if not any(outcome.best):
+        raise MazeError(NO_SCENARIO)

@@ -44,7 +44,8 @@ def run(
     `mazegen resume` continues a run directory that was killed or stopped with Ctrl-C.
     """
     from mazegen import api
-    from mazegen.runtime.experiment import default_run_dir, summary_lines
+    from mazegen.errors import MazeError
+    from mazegen.runtime.experiment import NO_SCENARIO, closing_lines, default_run_dir, summary_lines
     from mazegen.runtime.problem import read_build_spec
     from mazegen.runtime.progress import reporter_for
 
@@ -68,6 +69,7 @@ def run(
         )
     finally:
         reporter.close()
-    for line in summary_lines(outcome):
+    for line in [*summary_lines(outcome), *closing_lines(outcome, target)]:
         click.echo(line)
-    click.echo(f"wrote {target}")
+    if not any(outcome.best):
+        raise MazeError(NO_SCENARIO)

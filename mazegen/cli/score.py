@@ -1,43 +1,138 @@
-"""``mazegen score SPEC SCENARIO.json``: the fitness of a scenario under a spec."""
+"""``mazegen score SPEC SCENARIO.json|DIR...``: the fitness of scenarios under a spec.
+
+One scenario prints each number on a line of its own; several print a table, one row per
+file; ``--json`` prints one object per scenario and line. A file that cannot be read or
+scored is reported on one line of standard error and skipped; the others are scored, and
+the command ends with exit status 1.
+"""
 
 from __future__ import annotations
 
-import tempfile
+import json
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from mazegen.cli.errors import reports_errors
+from mazegen.errors import MazeError
+
+if TYPE_CHECKING:
+    from mazegen.runtime.scoring import Scored
 
 
 @click.command()
 @click.argument("spec", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.argument("scenario", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.argument("scenarios", nargs=-1, required=True, type=click.Path(exists=True, path_type=Path))
+@click.option(
+    "--json", "as_json", is_flag=True, help="One JSON object per scenario and line: every term and metric."
+)
 @reports_errors
-def score(spec: Path, scenario: Path) -> None:
-    """Print the fitness of SCENARIO under SPEC and each term's value."""
+def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool) -> None:
+    """Print the fitness of each SCENARIO under SPEC, its terms, solvability and difficulty metrics.
+
+    A folder stands for every scenario file below it (a run directory's best scenarios).
+    A scenario whose arena gives a start and goal is scored on them (a note says so when
+    they are not the spec's). A file that cannot be scored is reported on one line and
+    skipped; the exit status is then 1.
+    """
     from mazegen.dsl.loader import load_spec
-    from mazegen.generator.build import build
-    from mazegen.runtime.problem import Problem
+    from mazegen.runtime import SCORE_KERNELS
     from mazegen.runtime.progress import QuietReporter, note_first_compile
-    from mazegen.runtime.scenario import population_from_document, read_document
+    from mazegen.runtime.scoring import Scorer
 
     resolved = load_spec(spec)
-    document = read_document(scenario)
-    note_first_compile(QuietReporter())  # on standard error: the table on standard output stays clean
-    with tempfile.TemporaryDirectory(prefix="mazegen-score-") as temp:
-        build(resolved, Path(temp))
-        problem = Problem.from_build_dir(Path(temp))
-        population = population_from_document(resolved, problem.table, document, str(scenario))
-        fitness, terms = problem.score(population)
-        measured = population.survey.summary(0)
-    value = float(fitness[0])
-    click.echo(f"fitness\t{value:g}" if value != float("-inf") else "fitness\tinvalid (rejected by the spec)")
-    click.echo(f"elements\t{int(population.n_elements[0])}")
-    for key, values in terms.items():
-        click.echo(f"{key}\t{float(values[0]) + 0.0:g}")  # + 0.0 turns -0.0 into 0.0
-    for line in metric_lines(measured, resolved.arena.unit, resolved.arena.cell):
-        click.echo(line)
+    files = scenario_files(scenarios)
+    note_first_compile(QuietReporter(), kernels=SCORE_KERNELS)  # on standard error, as every note
+    scored: list[Scored] = []
+    failed = False
+    with Scorer.built(resolved) as scorer:
+        for path in files:
+            try:
+                result = scorer.score(path, note=lambda message: click.echo(message, err=True))
+            except MazeError as error:
+                if len(files) == 1:
+                    raise
+                click.echo(str(error), err=True)
+                failed = True
+                continue
+            if as_json:
+                click.echo(json.dumps(result.record(), allow_nan=False))
+            scored.append(result)
+    if not as_json and len(files) == 1:
+        for line in scenario_lines(scored[0], resolved.arena.unit, resolved.arena.cell):
+            click.echo(line)
+    elif not as_json and scored:
+        click.echo(score_table(scored))
+    if failed:
+        raise SystemExit(1)
+
+
+def scenario_files(paths: tuple[Path, ...]) -> list[Path]:
+    """The files to score: each file given, and every scenario file below each folder given, in
+    name order (hidden files, and JSON files of another format such as ``experiment.json``, are
+    left out).
+
+    Raises:
+        MazeError: for a folder without a scenario file.
+    """
+    files: list[Path] = []
+    for path in paths:
+        if not path.is_dir():
+            files.append(path)
+            continue
+        found = [
+            file
+            for file in sorted(path.rglob("*.json"))
+            if not any(part.startswith(".") for part in file.relative_to(path).parts)
+            and _may_be_scenario(file)
+        ]
+        if not found:
+            raise MazeError("no scenario files in this folder", filename=str(path))
+        files.extend(found)
+    return files
+
+
+def _may_be_scenario(path: Path) -> bool:
+    """False for JSON files of another format; a file that cannot be read stays, to be reported."""
+    from mazegen.runtime.scenario import FORMAT
+
+    try:
+        document = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError, RecursionError):
+        return True
+    return not isinstance(document, dict) or document.get("format") == FORMAT
+
+
+def score_table(scored: list[Scored]) -> str:
+    """One row per scenario: file, fitness, elements, solvability, difficulty and each term."""
+    from mazegen.cli.table import text_table
+
+    keys = list(scored[0].terms)
+    rows = [
+        {
+            "file": result.file,
+            "fitness": result.fitness if result.valid else "invalid",
+            "elements": result.elements,
+            "solvable": "yes" if result.measured["solvable"] else "no",
+            "difficulty": result.measured["difficulty"],
+            **{f"term {key}": value + 0.0 for key, value in result.terms.items()},
+        }
+        for result in scored
+    ]
+    columns = [(name, name) for name in ("file", "fitness", "elements", "solvable", "difficulty")]
+    return text_table(rows, [*columns, *((f"term {key}", f"term {key}") for key in keys)], digits=4)
+
+
+def scenario_lines(result: Scored, unit: str, cell: float) -> list[str]:
+    """A scenario's fitness, element count and terms (labelled ``term``), then its metrics, one
+    tab-separated line each."""
+    lines = [
+        f"fitness\t{result.fitness:g}" if result.valid else "fitness\tinvalid (rejected by the spec)",
+        f"elements\t{result.elements}",
+    ]
+    lines += [f"term {key}\t{value + 0.0:g}" for key, value in result.terms.items()]  # + 0.0: no -0
+    return lines + metric_lines(result.measured, unit, cell)
 
 
 def metric_lines(measured: dict[str, bool | float | None], unit: str, cell: float) -> list[str]:

@@ -14,6 +14,7 @@ from mazegen.spec import (
     GrammarPlacement,
     Scenario,
     out_of_bounds,
+    task_point_problem,
 )
 
 _WORD = re.compile(r"\w")
@@ -42,14 +43,10 @@ def convert_arena(decl: Any) -> Arena:
     points = {}
     for key, label in (("StartProperty", "start"), ("GoalProperty", "goal")):
         point = props[key].point
-        x, y = point.x, point.y
-        if not (0 <= x <= size.width and 0 <= y <= size.height):
-            fail(point, f"{label} ({x:g}, {y:g}) is outside the arena {size.width:g} x {size.height:g}")
-        if min(x, y, size.width - x, size.height - y) < radius:
-            fail(
-                point, f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}"
-            )
-        points[label] = (x, y)
+        problem = task_point_problem(label, (point.x, point.y), size.width, size.height, radius)
+        if problem is not None:
+            fail(point, problem)
+        points[label] = (point.x, point.y)
     if points["start"] == points["goal"]:
         fail(props["GoalProperty"], "start and goal are the same point")
     grid = props["GridProperty"].cell if "GridProperty" in props else None

@@ -59,10 +59,15 @@ EVERY_RUN_KERNELS = ("mapping._map_all", "difficulty._survey_all")
 both was never filled, or its filling was cut short."""
 
 
-def kernels_cached() -> bool:
-    """Whether this version's kernels are on disk; a run without them compiles them first, for up
-    to a minute, with nothing else to show for it."""
+SCORE_KERNELS = ("difficulty._survey_all",)
+"""The kernel every ``mazegen score`` calls, and the longest to compile: the scenario metrics'
+(score maps no genome, so a run's mapping kernel is no sign of a cache score can use)."""
+
+
+def kernels_cached(kernels: tuple[str, ...] = EVERY_RUN_KERNELS) -> bool:
+    """Whether this version's ``kernels`` (a run's by default) are on disk; a command without them
+    compiles them first, for up to a minute, with nothing else to show for it."""
     folder = numba.config.CACHE_DIR  # type: ignore[attr-defined]  # set at import by numba
     if not folder:  # numba's default place, beside the sources: not ours to judge
         return True
-    return all(any(Path(folder).rglob(f"{kernel}-*.nbi")) for kernel in EVERY_RUN_KERNELS)
+    return all(any(Path(folder).rglob(f"{kernel}-*.nbi")) for kernel in kernels)

@@ -22,6 +22,7 @@ from mazegen.errors import MazeError
 from mazegen.runtime.launcher import ExperimentResult, Job, RunsInterrupted, run_jobs
 from mazegen.runtime.problem import Problem
 from mazegen.runtime.progress import reporter_for
+from mazegen.runtime.rejections import why_no_scenario
 from mazegen.runtime.results import json_text
 from mazegen.runtime.worker import BuildFiles
 from mazegen.spec import EVOLUTION_BOUNDS, Spec, out_of_bounds
@@ -102,7 +103,7 @@ def default_run_dir(spec: Spec) -> Path:
 
 
 def summary_lines(outcome: ExperimentResult) -> list[str]:
-    """One line per run: best fitness and its phenotype."""
+    """One line per run: best fitness and its phenotype, or why it found no valid scenario."""
     lines = []
     for number, documents in enumerate(outcome.best, start=1):
         if documents:
@@ -111,8 +112,25 @@ def summary_lines(outcome: ExperimentResult) -> list[str]:
                 f"run {number}: best fitness {top['fitness']:g}, {len(top['elements'])} elements: "
                 f"{top['phenotype']}"
             )
-        else:
-            lines.append(f"run {number}: no valid scenario")
+            continue
+        why = [] if outcome.run_dir is None else why_no_scenario(outcome.run_dir, number)
+        lines.append(f"run {number}: no valid scenario" + (f"; {why[0]}" if why else ""))
+        lines += why[1:]
+    return lines
+
+
+NO_SCENARIO = "no run produced a valid scenario (see why above)"
+"""The error of an experiment that ends without a scenario (its run directory is whole)."""
+
+
+def closing_lines(outcome: ExperimentResult, run_dir: Path) -> list[str]:
+    """Where the results went: the run directory, its pictures, and the command of its report page."""
+    lines = [f"wrote {run_dir}"]
+    if any(outcome.best):
+        lines += [
+            f"pictures: {run_dir / 'run-NN' / 'best-KK.svg'} (as PNG: mazegen export {run_dir} --format png)",
+            f"one page of settings, pictures and plots: mazegen report {run_dir}",
+        ]
     return lines
 
 
@@ -150,7 +168,9 @@ def main(build_dir: Path, argv: list[str] | None = None) -> int:
         return 130
     finally:
         reporter.close()
-    for line in summary_lines(outcome):
+    for line in [*summary_lines(outcome), *closing_lines(outcome, out)]:
         print(line)
-    print(f"wrote {out}")
+    if not any(outcome.best):
+        print(NO_SCENARIO, file=sys.stderr)
+        return 1
     return 0

@@ -23,6 +23,10 @@ from mazegen.spec import Spec
 INVALID = -np.inf
 """Fitness of individuals that map to no scenario or that the spec rejects."""
 
+REJECTED = "rejected"
+"""The one verdict of :meth:`Problem.rejections` for a fitness module that does not tell its
+reject terms apart."""
+
 
 @dataclass(frozen=True)
 class Evaluation:
@@ -176,6 +180,19 @@ class Problem:
         rejected = _call_fitness(self.fitness_module, "rejected", population)
         bad = ~population.valid | np.asarray(rejected, dtype=bool)
         return np.where(bad, INVALID, total), terms
+
+    def rejections(self, population: Population) -> dict[str, np.ndarray]:
+        """Each reject term's verdict per individual (True: rejected), by term key; a fitness module
+        without ``rejections`` (generated before it, or edited without it) gives one verdict,
+        ``REJECTED``, its ``rejected(pop)``.
+
+        Raises:
+            MazeError: when the fitness module fails, naming its line.
+        """
+        if not callable(getattr(self.fitness_module, "rejections", None)):
+            return {REJECTED: np.asarray(_call_fitness(self.fitness_module, "rejected", population), bool)}
+        verdicts = _call_fitness(self.fitness_module, "rejections", population)
+        return {key: np.asarray(verdict, dtype=bool) for key, verdict in verdicts.items()}
 
     def evaluate(
         self, codons: np.ndarray, genes: np.ndarray, workspace: Workspace | None = None

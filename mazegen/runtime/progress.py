@@ -16,6 +16,7 @@ from typing import Protocol
 from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeElapsedColumn
 
+from mazegen.runtime import EVERY_RUN_KERNELS
 from mazegen.runtime.evolution import GenerationStats
 
 VISIBLE_RUNS = 16
@@ -47,11 +48,12 @@ FIRST_COMPILE_NOTE = (
 )
 
 
-def note_first_compile(reporter: Reporter) -> None:
-    """Say why a first run's bars stand still for a while: its kernels are not compiled yet."""
+def note_first_compile(reporter: Reporter, *, kernels: tuple[str, ...] = EVERY_RUN_KERNELS) -> None:
+    """Say why a first run's bars stand still for a while: its ``kernels`` (a run's by default, or
+    another command's) are not compiled yet."""
     from mazegen.runtime import kernels_cached
 
-    if not kernels_cached():
+    if not kernels_cached(kernels):
         reporter.note(FIRST_COMPILE_NOTE)
 
 
@@ -73,6 +75,11 @@ class QuietReporter:
 
     def close(self) -> None:
         """Ignore."""
+
+
+def _shown(best: float) -> str:
+    """A best fitness as a bar shows it: ``-`` while no individual is valid (NaN)."""
+    return "-" if best != best else f"{best:g}"
 
 
 class _Run:
@@ -98,6 +105,7 @@ class RichReporter:
         self._overall: TaskID | None = None
         self._started = 0.0
         self._evaluations = 0
+        self._best = float("nan")  # over every run's generations so far
 
     def add_run(self, key: Hashable, label: str, generations: int, *, done: int = 0) -> None:
         """Open the bar of a run (shown from its first generation)."""
@@ -126,12 +134,13 @@ class RichReporter:
         run.evaluations += stats.evaluations
         run.seconds += stats.seconds
         self._evaluations += stats.evaluations
-        best = "-" if stats.best != stats.best else f"{stats.best:g}"
         rate = f"{run.evaluations / run.seconds:,.0f}" if run.seconds > 0 else "-"
-        self._progress.update(run.task, advance=1, best=best, rate=rate, visible=True)
+        self._progress.update(run.task, advance=1, best=_shown(stats.best), rate=rate, visible=True)
+        if stats.best > self._best or self._best != self._best:  # NaN: no valid individual yet
+            self._best = stats.best
         elapsed = monotonic() - self._started
         overall = f"{self._evaluations / elapsed:,.0f}" if elapsed > 0 else "-"
-        self._progress.update(self._overall, advance=1, rate=overall)
+        self._progress.update(self._overall, advance=1, best=_shown(self._best), rate=overall)
 
     def finish_run(self, key: Hashable) -> None:
         """Fill a run's bar (and the overall one by what it skipped); hide it when there are many."""

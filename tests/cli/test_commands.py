@@ -191,6 +191,59 @@ def test_run_refuses_to_overwrite_and_keeps_old_results(tmp_path):
     assert (out / "stats.csv").read_bytes() == before
 
 
+def test_run_ends_saying_where_the_pictures_are(tmp_path):
+    out = tmp_path / "run"
+    result = run_small(out)
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[-3:] == [
+        f"wrote {out}",
+        f"pictures: {out}/run-NN/best-KK.svg (as PNG: mazegen export {out} --format png)",
+        f"one page of settings, pictures and plots: mazegen report {out}",
+    ]
+
+
+OVERSIZED = """
+element block { shape square size 400..500 }
+arena small { size 300 x 300 cm  start (30, 30)  goal (270, 270)  robot radius 10 }
+scenario blocks on small { elements block  grammar nested  max elements 8 }
+fitness { count  outside reject }
+evolution { population 40  generations 1  genome GENOME  runs 2 }
+"""
+"""Every element is larger than the arena: no scenario stays inside it."""
+
+
+def test_a_run_without_a_valid_scenario_says_why_and_fails(tmp_path, write_spec):
+    spec = write_spec(OVERSIZED.replace("GENOME", "32"))
+    result = invoke("run", str(spec), "-q", "--executor", "serial", "-o", str(tmp_path / "run"))
+    assert result.exit_code == 1
+    lines = result.stdout.splitlines()
+    assert lines[:2] == [
+        "run 1: no valid scenario; of its final generation's 40 individuals,",
+        "  100 % rejected by outside reject: elements not wholly inside the arena "
+        "(are they larger than the arena, or placed beyond it?)",
+    ]
+    assert lines[2].startswith("run 2: no valid scenario")
+    assert result.stderr.splitlines() == ["no run produced a valid scenario (see why above)"]
+    assert (tmp_path / "run" / "stats.csv").is_file()  # the run itself is whole
+
+
+def test_a_run_of_genomes_too_short_says_so(tmp_path, write_spec):
+    # One codon: half the genomes pick a composed element and run out of codons, the others
+    # make one block, larger than the arena.
+    spec = write_spec(OVERSIZED.replace("GENOME", "1").replace("runs 2", "runs 1"))
+    result = invoke("run", str(spec), "-q", "--executor", "serial", "-o", str(tmp_path / "run"))
+    assert result.exit_code == 1
+    header, *causes = result.stdout.splitlines()[:3]
+    assert header == "run 1: no valid scenario; of its final generation's 40 individuals,"
+    shares = [int(line.split("%")[0]) for line in causes]
+    assert abs(sum(shares) - 100) <= 1 and all(share > 0 for share in shares)  # rounded
+    assert causes[0].endswith(
+        "invalid: the genome ran out of codons before the derivation ended "
+        "(try a longer genome or more wraps)"
+    )
+    assert "rejected by outside reject" in causes[1]
+
+
 def test_run_rejects_population_zero(tmp_path):
     result = invoke(
         "run", str(EXAMPLES / "factory.maze"), "--population", "0", "-q", "-o", str(tmp_path / "r")
@@ -206,12 +259,12 @@ def test_score_a_hand_drawn_floor(tmp_path):
 
     path = floor_file(tmp_path / "floor.json", *routers(100, 300, 500, 700))
     result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
-    assert result.output.splitlines()[:3] == ["fitness\t4", "elements\t4", "count\t4"]
+    assert result.output.splitlines()[:3] == ["fitness\t4", "elements\t4", "term count\t4"]
     # Figure 19: four elements, three overlapping pairs -> 4 - 0.5 * 3 = 2.5.
     overlapping = routers(100, 110, 120, 700)
     floor_file(path, *overlapping)
     result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
-    assert "overlap\t-1.5" in result.output.splitlines()
+    assert "term overlap\t-1.5" in result.output.splitlines()
     assert result.output.splitlines()[0] == "fitness\t2.5"
     assert "solvable\tyes" in result.output.splitlines()
     assert any(line.startswith("tortuosity\t1.0") for line in result.output.splitlines())
@@ -251,6 +304,68 @@ def test_score_reports_bad_scenarios(tmp_path, content, message):
     result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
     assert result.exit_code == 1
     assert message in result.stderr
+
+
+WALL = {"type": "vwall", "x": 700, "y": 525, "width": 20, "depth": 1100}
+"""A wall from floor to ceiling across examples/factory.maze's arena: its start and goal are cut apart."""
+
+
+def test_score_takes_the_task_of_the_document(tmp_path):
+    own = {"format": "mazegen-scenario", "version": 1, "arena": {"start": [60, 60], "goal": [300, 990]}}
+    path = tmp_path / "floor.json"
+    path.write_text(json.dumps({**own, "elements": [WALL]}))
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
+    assert result.exit_code == 0, result.output
+    assert "solvable\tyes" in result.stdout.splitlines()  # both on the wall's left side
+    assert result.stderr.splitlines() == [
+        f"{path}: scored with its own start (60, 60) and goal (300, 990), "
+        "not the spec's start (60, 60) and goal (1340, 990)"
+    ]
+    floor_file(path, WALL)  # no arena: the spec's task, without a word
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
+    assert "solvable\tno" in result.stdout.splitlines() and result.stderr == ""
+    path.write_text(json.dumps({**own, "arena": {"start": [-5, 60]}, "elements": [WALL]}))
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(path))
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [f"{path}: start (-5, 60) is outside the arena 1400 x 1050"]
+
+
+def test_score_many_files_and_folders_in_one_call(tmp_path):
+    out = tmp_path / "run"
+    run_small(out)
+    floor = floor_file(tmp_path / "floor.json", {"type": "router", "x": 300, "y": 100, "size": 30})
+    best = sorted(out.rglob("best-*.json"))
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(floor), str(out), "--json")
+    assert result.exit_code == 0, result.output
+    records = [json.loads(line) for line in result.stdout.splitlines()]
+    assert [record["file"] for record in records] == [str(floor), *map(str, best)]  # not experiment.json
+    for path, record in zip(best, records[1:]):
+        document = json.loads(path.read_text())
+        assert record["fitness"] == document["fitness"] and record["terms"] == document["terms"]
+        assert record["solvable"] == document["metrics"]["solvable"]
+        assert record["metrics"]["tortuosity"] == pytest.approx(document["metrics"]["tortuosity"], abs=1e-3)
+    assert records[0]["terms"] == {"count": 1.0, "overlap": 0.0, "outside": 0.0}
+    table = invoke("score", str(EXAMPLES / "factory.maze"), str(floor), str(out)).stdout.splitlines()
+    assert table[0].split()[:4] == ["file", "fitness", "elements", "solvable"] and "term count" in table[0]
+    assert len(table) == 1 + len(records) and table[1].split()[:3] == [str(floor), "1", "1"]
+
+
+def test_score_reports_a_bad_file_and_scores_the_others(tmp_path):
+    good = floor_file(tmp_path / "a.json", {"type": "router", "x": 300, "y": 100, "size": 30})
+    bad = tmp_path / "b.json"
+    bad.write_text("{not json")
+    other = floor_file(tmp_path / "c.json", {"type": "router", "x": 500, "y": 100, "size": 30})
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(good), str(bad), str(other), "--json")
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [
+        f"{bad}:1:2: not valid JSON: Expecting property name enclosed in double quotes"
+    ]
+    assert [json.loads(line)["file"] for line in result.stdout.splitlines()] == [str(good), str(other)]
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    result = invoke("score", str(EXAMPLES / "factory.maze"), str(empty))
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [f"{empty}: no scenario files in this folder"]
 
 
 def test_suite_writes_spread_solvable_scenarios_and_a_heatmap(tmp_path):

@@ -124,13 +124,13 @@ def test_fitness_lines_follow_the_terms(write_spec):
     assert "'count': 2.0 * metrics.element_count(pop)" in fitness
     assert "'overlap': -0.5 * metrics.overlapping_pairs(pop)" in fitness
     assert "'size_limit': -3.0 * metrics.elements_over_size(pop, 500.0)" in fitness
-    assert "reject |= metrics.elements_outside(pop) > 0" in fitness
+    assert "'outside': metrics.elements_outside(pop) > 0," in fitness  # a verdict of rejections(pop)
 
 
 @pytest.mark.parametrize(
     ("term", "line"),
     [
-        ("solvable required", "reject |= metrics.unsolvable(pop) > 0"),
+        ("solvable required", "'solvable': metrics.unsolvable(pop) > 0,"),
         ("solvable penalty 10", "'solvable': -10.0 * metrics.unsolvable(pop)"),
     ],
 )

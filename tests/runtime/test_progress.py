@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import importlib
 import io
+from pathlib import Path
 
 import numba
 from click.testing import CliRunner
@@ -29,7 +31,7 @@ def test_a_bar_per_run_under_an_overall_bar_with_rates():
         )
     reporter.finish_run((0, 1))
     reporter.generation((0, 1), GenerationStats(3, 500, 9.0, 2.0, 2.0, 0, 500, 0, 0.25))  # late: ignored
-    reporter.generation((0, 2), GenerationStats(2, 100, 3.0, 2.0, 2.0, 0, 100, 0, 0.5))
+    reporter.generation((0, 2), GenerationStats(2, 100, 7.0, 2.0, 2.0, 0, 100, 0, 0.5))
     reporter.finish_run((0, 2))
     reporter.note("a note")
     reporter.close()
@@ -38,6 +40,7 @@ def test_a_bar_per_run_under_an_overall_bar_with_rates():
     first = next(line for line in lines if line.startswith("run 1/2"))
     second = next(line for line in lines if line.startswith("run 2/2"))
     assert "6/6" in overall and "evaluations/s" in overall
+    assert "best 7 " in overall  # the best of every run (run 2's), not the late report's 9
     assert "3/3" in first and "best 6 " in first and "2,000 evaluations/s" in first  # 1,500 in 0.75 s
     assert "3/3" in second and "200 evaluations/s" in second
     assert "a note" in lines
@@ -69,14 +72,45 @@ def test_kernels_are_cached_once_every_run_kernel_has_an_index(tmp_path, monkeyp
 def test_a_first_run_says_it_is_compiling(monkeypatch, tmp_path):
     spec = mazegen.load(EXAMPLES / "factory.maze")
     for cached, notes in ((False, [FIRST_COMPILE_NOTE]), (True, [])):
-        monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda cached=cached: cached)
+        monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(), cached=cached: cached)
         reporter = Notes()
         mazegen.run(spec, population=20, generations=1, reporter=reporter)
         assert reporter.notes == notes
     # `mazegen score` says it on standard error and keeps its table on standard output.
-    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda: False)
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): False)
     floor = floor_file(tmp_path / "floor.json", {"type": "router", "x": 300, "y": 100, "size": 30})
     result = CliRunner().invoke(main, ["score", str(EXAMPLES / "factory.maze"), str(floor)])
     assert result.exit_code == 0
     assert result.stderr.splitlines() == [FIRST_COMPILE_NOTE]
     assert result.stdout.splitlines()[:2] == ["fitness\t1", "elements\t1"]
+
+
+def test_score_looks_for_kernels_that_score_compiles(tmp_path, monkeypatch):
+    # Looking for the mapping kernel of runs, which score never calls, made every score say it
+    # was compiling, also with a warm cache.
+    asked: list[str] = []
+
+    def cached(kernels: tuple[str, ...] = mazegen.runtime.EVERY_RUN_KERNELS) -> bool:
+        asked.extend(kernels)
+        return True
+
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", cached)
+    floor = floor_file(tmp_path / "floor.json", {"type": "router", "x": 300, "y": 100, "size": 30})
+    score = ["score", str(EXAMPLES / "factory.maze"), str(floor)]
+    assert CliRunner().invoke(main, score).exit_code == 0
+    assert asked
+    called: set[str] = set()
+    for name in set(asked):
+        module_name, function = name.split(".")
+        module = importlib.import_module(f"mazegen.runtime.{module_name}")
+        kernel = getattr(module, function)
+
+        def recorded(*args, name=name, kernel=kernel, **kwargs):
+            called.add(name)
+            return kernel(*args, **kwargs)
+
+        monkeypatch.setattr(module, function, recorded)
+    assert CliRunner().invoke(main, score).exit_code == 0
+    assert called == set(asked)  # so score compiles them when they are missing
+    folder = Path(numba.config.CACHE_DIR)  # and numba files them under those names
+    assert all(any(folder.rglob(f"{name}-*.nbi")) for name in asked)
