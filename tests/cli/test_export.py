@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import json
 import shutil
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+import yaml
 from click.testing import CliRunner
 
 from mazegen.cli.export import FORMAT_NAMES
@@ -143,3 +145,29 @@ def test_report_writes_one_page_and_keeps_an_existing_one(factory_run, tmp_path)
     assert refused.exit_code == 1 and "already exists" in refused.stderr and page.read_text() == "mine"
     assert invoke("report", str(factory_run), "-o", str(page), "--force").exit_code == 0
     assert page.read_text() == text
+
+
+HOSTILE_STEM = "we--ird\x01\t\n <&]]>\x7f"
+
+
+@pytest.mark.parametrize("fmt", FORMAT_NAMES)
+def test_a_hostile_file_name_gives_files_that_parse(factory_run, tmp_path, fmt):
+    source = tmp_path / f"{HOSTILE_STEM}.json"
+    shutil.copy(factory_run / "run-01" / "best-01.json", source)
+    out = tmp_path / "out"
+    result = invoke(
+        "export", str(source), "-f", fmt, "-o", str(out), "--spec", str(EXAMPLES / "factory.maze")
+    )
+    assert result.exit_code == 0, result.output
+    written = {path.name: path.read_bytes() for path in out.iterdir()}
+    assert all(name.isprintable() and " " not in name for name in written), sorted(written)
+    for name, data in written.items():
+        if name.endswith((".sdf", ".svg")):
+            ET.fromstring(data)  # well-formed XML
+        elif name.endswith(".yaml"):
+            assert yaml.safe_load(data)["image"] in written
+        elif name.endswith(".scen"):
+            problem = data.decode("utf-8").splitlines()[1].split("\t")
+            assert len(problem) == 9 and problem[1] in written
+        elif name.endswith(".json"):
+            assert json.loads(data)["elements"]
