@@ -365,7 +365,7 @@ def _check_items(value: Any, rule: Items, where: str, filename: str) -> None:
         elif rule.most is None:
             count = f"at least {rule.least}"
         else:
-            count = f"from {rule.least} to {rule.most}" if rule.least else f"at most {rule.most}"
+            count = f"{rule.least} to {rule.most}" if rule.least else f"at most {rule.most}"
         _fail(where, f"must be a list of {count} items", f"{len(value)} items", filename)
     for index, item in enumerate(value):
         check(item, rule.item, f"{where}[{index}]", filename)
