@@ -103,7 +103,7 @@ def test_user_mistakes_are_one_line_errors(factory_run, tmp_path):
     cases = [
         (["export", str(other), "-f", "svg"], 1, f"{other}: not a scenario file"),
         (["export", str(tmp_path / "alone"), "-f", "svg"], 1, "not a run or suite directory"),
-        (["export", str(damaged), "-f", "gazebo"], 1, f"{damaged}: element 2: 'x' must be a number"),
+        (["export", str(damaged), "-f", "gazebo"], 1, f"{damaged}: elements[1].x: must be a number"),
         (["export", str(alone), "-f", "ros"], 1, "needs the spec the scenario was made under"),
         (["export", str(alone), "-f", "movingai", "--spec", str(EXAMPLES / "workshop.maze")], 1,
          "the arena of spec 'workshop' differs from the scenario's"),
