@@ -16,45 +16,16 @@ from typing import Any
 import jsonschema
 import pytest
 
-import mazegen
 from mazegen.errors import MazeError
 from mazegen.runtime import scenario_rules
 from mazegen.runtime.exporters.floor import METRES_PER_UNIT
-from mazegen.runtime.scenario import completed_document, read_document
+from mazegen.runtime.scenario import read_document
 from mazegen.runtime.scenario_rules import DOCUMENT, Fields, Flag, Items, Number, Rule, Text
-from tests.conftest import EXAMPLES, ROOT
+from tests.conftest import ROOT
+from tests.runtime.scenario_mutants import HAND, mutant, nested, text_of, whole_document, write
 
 SCHEMA = json.loads((ROOT / "docs" / "scenario.schema.json").read_text(encoding="utf-8"))
 VALIDATOR = jsonschema.Draft202012Validator(SCHEMA)
-HAND = [
-    {"type": "productionLine", "x": 700, "y": 525, "width": 500, "depth": 80, "rotation": 0},
-    {"type": "router", "x": 500, "y": 525, "size": 30},
-    {"type": "cobot", "x": 300, "y": 300, "size": 100, "rotation": 30},
-]
-
-
-@pytest.fixture(scope="module")
-def whole() -> dict[str, Any]:
-    """A complete document, every field of the format present."""
-    spec = mazegen.load(EXAMPLES / "factory.maze")
-    document = completed_document(spec, {"format": "mazegen-scenario", "version": 1, "elements": HAND}, "x")
-    document.update(
-        phenotype="productionLine(router(cobot))", fitness=1.5, terms={"count": 3.0, "overlap": -1.5}
-    )
-    document["origin"] = {
-        "seed": 1,
-        "run": 1,
-        "generation": 2,
-        "rank": 1,
-        "codons": [3, 1, 4],
-        "placement": [[1, 2, 3, 4, 5]] * 3,
-        "suite": {"cell": 0, "difficulty": "0-10", "elements": "1-3"},
-    }
-    return json.loads(json.dumps(document))
-
-
-def text_of(document: dict[str, Any]) -> str:
-    return json.dumps(document, allow_nan=True)
 
 
 def changed(change):
@@ -73,11 +44,9 @@ def replaced(old: str, new: str):
     return lambda document: text_of(document).replace(old, new, 1)
 
 
-def nested(depth: int) -> Any:
-    value: Any = 0
-    for _ in range(depth):
-        value = [value]
-    return value
+@pytest.fixture(scope="module")
+def whole() -> dict[str, Any]:
+    return whole_document()
 
 
 BAD_DOCUMENTS = [
@@ -152,11 +121,6 @@ BAD_DOCUMENTS = [
     ("not UTF-8", lambda d: "\udcff", "cannot read scenario: not UTF-8 text"),
     ("not JSON", lambda d: "{not json", "floor.json:1:2: not valid JSON: Expecting property name"),
 ]  # fmt: skip
-
-
-def write(path: Path, text: str) -> Path:
-    path.write_bytes(text.encode("utf-8", "surrogateescape"))
-    return path
 
 
 def error_of(path: Path) -> str:
@@ -270,47 +234,6 @@ def test_the_schema_states_the_rules_of_the_table():
 
 
 # --- a fuzzer over scenario files ---------------------------------------------------------------------
-
-HOSTILE_VALUES: list[Any] = [
-    None, True, 0, -1, 1, 5e-324, 1e-5, 1e9, 2e9, -1e308, 1e308, 359.9999, 360, 10**30, 2**63,
-    "", "x" * 300, "a\x00b", "\x1b]0;T\x07", "rgb(256,0,0)", "rgb(1, 2, 3)", "red", "#12345g", "cm", "<&]]>",
-    [], [0], [1, 2], [[0, 0], [1, 1]], [[0, 0], [1, 0], [0, 1]], {}, {"x": 1}, nested(20),
-]  # fmt: skip
-
-
-def places(value: Any, where: tuple = ()) -> list[tuple]:
-    """Every path into ``value`` (keys and indices), the value's own included."""
-    found = [where]
-    if isinstance(value, dict):
-        for key, inner in value.items():
-            found += places(inner, (*where, key))
-    elif isinstance(value, list):
-        for index, inner in enumerate(value[:3]):
-            found += places(inner, (*where, index))
-    return found
-
-
-def mutant(document: dict[str, Any], chance: random.Random) -> tuple[str, bool]:
-    """A mutated document's text, and whether only one value was replaced by a scalar or list."""
-    document = copy.deepcopy(document)
-    how = chance.random()
-    if how < 0.1:
-        text = text_of(document)
-        cut = chance.randrange(len(text))
-        return text[:cut] + chance.choice(["", "[" * 5000, "\x01", "9" * 400, '"\\ud800"', "NaN"]) + text[
-            cut:
-        ], False
-    where = chance.choice(places(document)[1:])
-    *parents, last = where
-    parent = document
-    for key in parents:
-        parent = parent[key]
-    if how < 0.25 and isinstance(parent, dict):
-        del parent[last]
-        return text_of(document), False
-    value = chance.choice(HOSTILE_VALUES)
-    parent[last] = copy.deepcopy(value)
-    return text_of(document), value != {} and not (isinstance(value, dict))
 
 
 def test_fuzzed_documents_are_read_or_refused_in_one_line_and_what_is_read_passes_the_schema(whole, tmp_path):
