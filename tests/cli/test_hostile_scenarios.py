@@ -53,7 +53,7 @@ def outputs_parse(folder: Path) -> None:
 def test_mutated_scenarios_give_one_line_errors_or_files_that_parse(tmp_path):
     runner = CliRunner()
     formats = itertools.cycle(FORMAT_NAMES)
-    for index, path in enumerate(mutants(tmp_path, read=18, refused=6)):
+    for index, path in enumerate(mutants(tmp_path, read=36, refused=12)):
         out = tmp_path / f"out{index}"
         commands = [
             ["score", SPEC, str(path)],
