@@ -11,9 +11,11 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
+import mazegen
 from mazegen.cli.export import FORMAT_NAMES
 from mazegen.cli.main import main
 from mazegen.runtime.exporters import FORMATS
+from mazegen.runtime.exporters.batch import export_plan
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 
@@ -171,3 +173,19 @@ def test_a_hostile_file_name_gives_files_that_parse(factory_run, tmp_path, fmt):
             assert len(problem) == 9 and problem[1] in written
         elif name.endswith(".json"):
             assert json.loads(data)["elements"]
+
+
+def test_a_file_name_no_encoding_can_write_exports_that_parse(factory_run, tmp_path):
+    source = tmp_path / "best\udcff\x1b[2J.json"  # a byte that is not UTF-8, and a terminal escape
+    shutil.copy(factory_run / "run-01" / "best-01.json", source)
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    for fmt in ("gazebo", "ros", "movingai"):
+        files = export_plan(source, fmt, tmp_path / fmt, spec=spec)
+        assert {path.name for path in files} <= {f"best__[2J{suffix}" for suffix in SUFFIXES[fmt]}
+        for path, data in files.items():
+            if path.suffix == ".sdf":
+                ET.fromstring(data)
+            elif path.suffix == ".yaml":
+                assert yaml.safe_load(data)["image"] == "best__[2J.pgm"
+            elif path.suffix == ".scen":
+                assert data.decode("utf-8").splitlines()[1].split("\t")[1] == "best__[2J.map"
