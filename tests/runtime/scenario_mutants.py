@@ -57,6 +57,7 @@ def write(path: Path, text: str) -> Path:
 HOSTILE_VALUES: list[Any] = [
     None, True, 0, -1, 1, 5e-324, 1e-5, 1e9, 2e9, -1e308, 1e308, 359.9999, 360, 10**30, 2**63,
     "", "x" * 300, "a\x00b", "\x1b]0;T\x07", "rgb(256,0,0)", "rgb(1, 2, 3)", "red", "#12345g", "cm", "<&]]>",
+    "rgb(99999999999999999999,0,0)", ["cm"], -5, 1e-300,
     [], [0], [1, 2], [[0, 0], [1, 1]], [[0, 0], [1, 0], [0, 1]], {}, {"x": 1}, nested(20),
 ]  # fmt: skip
 
@@ -73,17 +74,19 @@ def places(value: Any, where: tuple = ()) -> list[tuple]:
     return found
 
 
-def mutant(document: dict[str, Any], chance: random.Random) -> tuple[str, bool]:
-    """A mutated document's text, and whether only one value was replaced by a scalar or list."""
+def mutant(document: dict[str, Any], chance: random.Random, *, within: str = "") -> tuple[str, bool]:
+    """A mutated document's text, and whether only one value was replaced by a scalar or list.
+
+    ``within`` a top-level field (``elements``): only values inside it are changed.
+    """
     document = copy.deepcopy(document)
     how = chance.random()
     if how < 0.1:
         text = text_of(document)
         cut = chance.randrange(len(text))
-        return text[:cut] + chance.choice(["", "[" * 5000, "\x01", "9" * 400, '"\\ud800"', "NaN"]) + text[
-            cut:
-        ], False
-    where = chance.choice(places(document)[1:])
+        noise = chance.choice(["", "[" * 5000, "\x01", "9" * 400, '"\\ud800"', "NaN"])
+        return text[:cut] + noise + text[cut:], False
+    where = chance.choice([place for place in places(document)[1:] if place[0].startswith(within)])
     *parents, last = where
     parent = document
     for key in parents:
@@ -93,4 +96,4 @@ def mutant(document: dict[str, Any], chance: random.Random) -> tuple[str, bool]:
         return text_of(document), False
     value = chance.choice(HOSTILE_VALUES)
     parent[last] = copy.deepcopy(value)
-    return text_of(document), value != {} and not (isinstance(value, dict))
+    return text_of(document), not isinstance(value, dict)
