@@ -1,10 +1,11 @@
 """What a scenario file may hold: read safely, then checked against one table of types and bounds.
 
 Every command that reads a scenario file (``score``, ``render``, ``export``,
-``report``) goes through :func:`load_document`: the file is read up to
-:data:`MAX_FILE_BYTES`, parsed with hooks that refuse over-long numbers, NaN and
-infinities, and checked against :data:`DOCUMENT`, the rules of every field the
-format defines. A field that is absent is not checked here (a floor written by
+``report``) goes through :func:`mazegen.runtime.scenario.read_document`, which
+uses :func:`read_json` (the file read up to :data:`MAX_FILE_BYTES`, parsed with
+hooks that refuse over-long numbers, NaN and infinities) and
+:func:`check_document` (every field against :data:`DOCUMENT`, the rules of every
+field the format defines). A field that is absent is not checked here (a floor written by
 hand gives only its elements); a field that is present must follow its rule.
 Fields the format does not define are ignored, but nothing may nest deeper than
 :data:`MAX_DEPTH`. ``docs/scenario.schema.json`` states the same rules; a test
@@ -257,15 +258,20 @@ def describe(rule: Number) -> str:
     """What a number must be, in words (``a number from 0.0001 to 1e+09``)."""
     kind = "an integer" if rule.integer else "a number"
     if rule.low is not None and rule.low == rule.high:
-        return f"{kind} equal to {rule.low:g}"
+        return f"{kind} equal to {_plain(rule.low)}"
     if rule.low is not None and rule.high is not None and not (rule.low_open or rule.high_open):
-        return f"{kind} from {rule.low:g} to {rule.high:g}"
+        return f"{kind} from {_plain(rule.low)} to {_plain(rule.high)}"
     ends = []
     if rule.low is not None:
-        ends.append(f"{'above' if rule.low_open else 'at least'} {rule.low:g}")
+        ends.append(f"{'above' if rule.low_open else 'at least'} {_plain(rule.low)}")
     if rule.high is not None:
-        ends.append(f"{'below' if rule.high_open else 'at most'} {rule.high:g}")
+        ends.append(f"{'below' if rule.high_open else 'at most'} {_plain(rule.high)}")
     return " ".join([kind, " and ".join(ends)]).strip()
+
+
+def _plain(bound: float) -> str:
+    """A bound as written: integers in full (``9223372036854775807``), others short (``1e+09``)."""
+    return str(bound) if isinstance(bound, int) else f"{bound:g}"
 
 
 class _BadLiteral(ValueError):
