@@ -17,11 +17,11 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.fileio import read_text
 from mazegen.runtime.cspace import grid_of
 from mazegen.runtime.geometry import ElementTable, world_vertices
 from mazegen.runtime.navigation import path_of
 from mazegen.runtime.population import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
+from mazegen.runtime.scenario_rules import check_document, read_json
 from mazegen.spec import Spec
 
 FORMAT = "mazegen-scenario"
@@ -136,80 +136,41 @@ def dumps(document: dict[str, Any]) -> str:
     return json.dumps(document, indent=1, sort_keys=False) + "\n"
 
 
-def _is_number(value: Any) -> bool:
-    return not isinstance(value, bool) and isinstance(value, (int, float)) and math.isfinite(value)
-
-
-def _is_point(value: Any) -> bool:
-    return isinstance(value, list) and len(value) == 2 and all(_is_number(v) for v in value)
-
-
-def _number(item: dict[str, Any], key: str, where: str) -> float:
-    value: Any = item.get(key)
-    if not _is_number(value):
-        raise MazeError(f"{where}: '{key}' must be a number")
-    return float(value)
-
-
-def _points(value: Any, least: int, where: str) -> None:
-    """Check that ``value`` is a list of at least ``least`` ``[x, y]`` points."""
-    if not (isinstance(value, list) and len(value) >= least and all(_is_point(p) for p in value)):
-        raise MazeError(f"{where} must be a list of at least {least} [x, y] points")
+def _require(item: dict[str, Any], keys: tuple[str, ...], where: str, filename: str) -> None:
+    """Check that ``item`` (a checked object, at JSON path ``where``) has every one of ``keys``."""
+    for key in keys:
+        if key not in item:
+            raise MazeError(f"{where}: '{key}' is missing", filename=filename)
 
 
 def has_parts(document: dict[str, Any]) -> bool:
     """Whether every element of a document (read with :func:`read_document`) carries its world parts."""
-    return all(isinstance(element, dict) and "parts" in element for element in document["elements"])
+    return all("parts" in element for element in document["elements"])
 
 
 def check_complete(document: dict[str, Any], filename: str) -> None:
-    """Check what consumers of a whole document read (read with :func:`read_document` first).
+    """Check that a document (read with :func:`read_document`) has what consumers of a whole one read.
 
-    The arena's size, start, goal and robot radius, each element's type, position,
-    rotation, height and world parts, and the path when there is one.
+    The arena's size, start and goal, and each element's type, position and world parts.
 
     Raises:
-        MazeError: Naming the file and what is wrong.
+        MazeError: Naming the file and the JSON path of what is missing.
     """
-    arena = document.get("arena")
-    if not isinstance(arena, dict):
-        raise MazeError("'arena' must be an object", filename=filename)
-    for key in ("width", "height"):
-        if _number(arena, key, f"{filename}: arena") <= 0:
-            raise MazeError(f"{filename}: arena: '{key}' must be positive")
-    for key in ("start", "goal"):
-        if not _is_point(arena.get(key)):
-            raise MazeError(f"{filename}: arena: '{key}' must be an [x, y] point")
-    if "robot_radius" in arena:
-        _number(arena, "robot_radius", f"{filename}: arena")
-    for slot, item in enumerate(document["elements"]):
-        where = f"{filename}: element {slot + 1}"
-        if not isinstance(item, dict) or not isinstance(item.get("type"), str):
-            raise MazeError(f"{where}: 'type' must be a string")
-        for key in ("x", "y"):
-            _number(item, key, where)
-        for key in ("rotation", "height"):
-            if key in item:
-                _number(item, key, where)
-        parts = item.get("parts")
-        if not isinstance(parts, list) or not parts:
-            raise MazeError(f"{where}: 'parts' must be a list of polygons")
-        for part in parts:
-            _points(part, 3, f"{where}: a part")
-    if document.get("path") is not None:
-        _points(document["path"], 2, f"{filename}: 'path'")
+    if "arena" not in document:
+        raise MazeError("'arena' is missing", filename=filename)
+    _require(document["arena"], ("width", "height", "start", "goal"), "arena", filename)
+    for index, item in enumerate(document["elements"]):
+        _require(item, ("type", "x", "y", "parts"), f"elements[{index}]", filename)
 
 
 def read_document(path: Path) -> dict[str, Any]:
-    """Read a scenario file, with a located error for bad JSON or a wrong format."""
+    """Read a scenario file, every field it has checked (:mod:`~mazegen.runtime.scenario_rules`).
+
+    Raises:
+        MazeError: Naming the file, and the line or the JSON path of what is wrong.
+    """
     filename = str(path)
-    text = read_text(path, "scenario")
-    try:
-        document = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise MazeError(
-            f"not valid JSON: {error.msg}", filename=filename, line=error.lineno, col=error.colno
-        ) from None
+    document = read_json(path)
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         raise MazeError(f'not a scenario file (expected "format": "{FORMAT}")', filename=filename)
     if document.get("version") != VERSION:
@@ -219,6 +180,7 @@ def read_document(path: Path) -> dict[str, Any]:
         )
     if not isinstance(document.get("elements"), list):
         raise MazeError("'elements' must be a list", filename=filename)
+    check_document(document, filename)
     return document
 
 
@@ -232,28 +194,19 @@ def population_from_document(
     ids = np.full((1, slots), -1, dtype=np.int32)
     params = np.zeros((1, slots, PLACEMENT_GENES), dtype=np.float64)
     for slot, item in enumerate(elements):
-        where = f"{filename}: element {slot + 1}"
-        if not isinstance(item, dict) or item.get("type") not in names:
-            kind = item.get("type") if isinstance(item, dict) else item
+        where = f"elements[{slot}]"
+        if item.get("type") not in names:
             raise MazeError(
-                f"{where}: type {kind!r} is not an element of scenario '{spec.name}' ({', '.join(names)})"
+                f"{where}.type: {item.get('type')!r} is not an element of scenario '{spec.name}' "
+                f"({', '.join(names)})",
+                filename=filename,
             )
         kind = spec.element(item["type"])
         ids[0, slot] = names.index(kind.name)
-        if kind.uniform:
-            sx = sy = _number(item, "size", where)
-        else:
-            sx, sy = _number(item, "width", where), _number(item, "depth", where)
-        if min(sx, sy) <= 0:
-            raise MazeError(f"{where}: its size must be positive")
-        rotation = _number(item, "rotation", where) if "rotation" in item else 0.0
-        params[0, slot] = (
-            _number(item, "x", where),
-            _number(item, "y", where),
-            sx,
-            sy,
-            math.radians(rotation),
-        )
+        sizes = ("size",) if kind.uniform else ("width", "depth")
+        _require(item, ("x", "y", *sizes), where, filename)
+        sx, sy = (item[sizes[0]], item[sizes[-1]])
+        params[0, slot] = (item["x"], item["y"], sx, sy, math.radians(item.get("rotation", 0.0)))
     count = np.array([len(elements)], dtype=np.int32)
     return Population(ids, count, lambda: params, np.array([True]), table, spec.arena, spec.reads_difficulty)
 

@@ -284,17 +284,17 @@ def test_score_a_hand_drawn_floor(tmp_path):
         ('{"format": "other"}', "not a scenario file"),
         (
             '{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "crate", "x": 1, "y": 1}]}',
-            "type 'crate' is not an element of scenario 'factory'",
+            "elements[0].type: 'crate' is not an element of scenario 'factory'",
         ),
         (
             '{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "router", "x": "a", "y": 1, '
             '"size": 3}]}',
-            "element 1: 'x' must be a number",
+            'elements[0].x: must be a number from -1e+09 to 1e+09, got "a"',
         ),
         (
             '{"format": "mazegen-scenario", "version": 1, "elements": [{"type": "router", "x": 90, "y": 80, '
             '"size": 30}, {"type": "hwall", "x": 500, "y": 500, "width": 200, "depth": -10}]}',
-            "element 2: its size must be positive",
+            "elements[1].depth: must be a number from 0.0001 to 1e+09, got -10",
         ),
     ],
 )
@@ -456,10 +456,10 @@ def test_render_a_hand_drawn_floor_with_its_spec(tmp_path):
 @pytest.mark.parametrize(
     ("damage", "message"),
     [
-        (lambda d: d["elements"][0].pop("type"), "element 1: 'type' must be a string"),
-        (lambda d: d["arena"].update(width=-1), "arena: 'width' must be positive"),
-        (lambda d: d["elements"][0].update(x="abc"), "element 1: 'x' must be a number"),
-        (lambda d: d["elements"][0].update(parts=[[[0, 0]]]), "element 1: a part"),
+        (lambda d: d["elements"][0].pop("type"), "elements[0]: 'type' is missing"),
+        (lambda d: d["arena"].update(width=-1), "arena.width: must be a number from 0.0001 to 1e+09, got -1"),
+        (lambda d: d["elements"][0].update(x="abc"), "elements[0].x: must be a number"),
+        (lambda d: d["elements"][0].update(parts=[[[0, 0]]]), "elements[0].parts[0]: must be a list of 3"),
     ],
 )
 def test_render_refuses_a_damaged_scenario_in_one_line(tmp_path, small_run, damage, message):

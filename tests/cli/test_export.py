@@ -4,14 +4,18 @@ from __future__ import annotations
 
 import json
 import shutil
+import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+import yaml
 from click.testing import CliRunner
 
+import mazegen
 from mazegen.cli.export import FORMAT_NAMES
 from mazegen.cli.main import main
 from mazegen.runtime.exporters import FORMATS
+from mazegen.runtime.exporters.batch import export_plan
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 
@@ -101,7 +105,7 @@ def test_user_mistakes_are_one_line_errors(factory_run, tmp_path):
     cases = [
         (["export", str(other), "-f", "svg"], 1, f"{other}: not a scenario file"),
         (["export", str(tmp_path / "alone"), "-f", "svg"], 1, "not a run or suite directory"),
-        (["export", str(damaged), "-f", "gazebo"], 1, f"{damaged}: element 2: 'x' must be a number"),
+        (["export", str(damaged), "-f", "gazebo"], 1, f"{damaged}: elements[1].x: must be a number"),
         (["export", str(alone), "-f", "ros"], 1, "needs the spec the scenario was made under"),
         (["export", str(alone), "-f", "movingai", "--spec", str(EXAMPLES / "workshop.maze")], 1,
          "the arena of spec 'workshop' differs from the scenario's"),
@@ -143,3 +147,45 @@ def test_report_writes_one_page_and_keeps_an_existing_one(factory_run, tmp_path)
     assert refused.exit_code == 1 and "already exists" in refused.stderr and page.read_text() == "mine"
     assert invoke("report", str(factory_run), "-o", str(page), "--force").exit_code == 0
     assert page.read_text() == text
+
+
+HOSTILE_STEM = "we--ird\x01\t\n <&]]>\x7f"
+
+
+@pytest.mark.parametrize("fmt", FORMAT_NAMES)
+def test_a_hostile_file_name_gives_files_that_parse(factory_run, tmp_path, fmt):
+    source = tmp_path / f"{HOSTILE_STEM}.json"
+    shutil.copy(factory_run / "run-01" / "best-01.json", source)
+    out = tmp_path / "out"
+    result = invoke(
+        "export", str(source), "-f", fmt, "-o", str(out), "--spec", str(EXAMPLES / "factory.maze")
+    )
+    assert result.exit_code == 0, result.output
+    written = {path.name: path.read_bytes() for path in out.iterdir()}
+    assert all(name.isprintable() and " " not in name for name in written), sorted(written)
+    for name, data in written.items():
+        if name.endswith((".sdf", ".svg")):
+            ET.fromstring(data)  # well-formed XML
+        elif name.endswith(".yaml"):
+            assert yaml.safe_load(data)["image"] in written
+        elif name.endswith(".scen"):
+            problem = data.decode("utf-8").splitlines()[1].split("\t")
+            assert len(problem) == 9 and problem[1] in written
+        elif name.endswith(".json"):
+            assert json.loads(data)["elements"]
+
+
+def test_a_file_name_no_encoding_can_write_exports_that_parse(factory_run, tmp_path):
+    source = tmp_path / "best\udcff\x1b[2J.json"  # a byte that is not UTF-8, and a terminal escape
+    shutil.copy(factory_run / "run-01" / "best-01.json", source)
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    for fmt in ("gazebo", "ros", "movingai"):
+        files = export_plan(source, fmt, tmp_path / fmt, spec=spec)
+        assert {path.name for path in files} <= {f"best__[2J{suffix}" for suffix in SUFFIXES[fmt]}
+        for path, data in files.items():
+            if path.suffix == ".sdf":
+                ET.fromstring(data)
+            elif path.suffix == ".yaml":
+                assert yaml.safe_load(data)["image"] == "best__[2J.pgm"
+            elif path.suffix == ".scen":
+                assert data.decode("utf-8").splitlines()[1].split("\t")[1] == "best__[2J.map"

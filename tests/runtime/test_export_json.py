@@ -16,7 +16,7 @@ from mazegen.runtime.exporters import json_files
 from mazegen.runtime.exporters.floor import ExportOptions, load_floor
 from mazegen.runtime.geometry import ElementTable
 from mazegen.runtime.population import Population
-from mazegen.runtime.scenario import completed_document, element_documents
+from mazegen.runtime.scenario import completed_document, dumps, element_documents, read_document
 from tests.conftest import EXAMPLES, ROOT
 
 SCHEMA = json.loads((ROOT / "docs" / "scenario.schema.json").read_text(encoding="utf-8"))
@@ -37,12 +37,14 @@ def test_the_schema_is_a_valid_draft_2020_12_schema():
 
 
 @pytest.mark.parametrize("example", ALL_EXAMPLES, ids=lambda p: str(p.relative_to(EXAMPLES)))
-def test_every_examples_scenarios_validate(example):
+def test_every_examples_scenarios_validate(example, tmp_path):
     result = mazegen.run(example, runs=1, population=40, generations=1)
     documents = result.best[0]
     assert documents
     for document in documents:
         assert problems(json.loads(json.dumps(document))) == []
+        (tmp_path / "best.json").write_text(dumps(document))
+        assert read_document(tmp_path / "best.json") == json.loads(dumps(document))  # within every bound
 
 
 def test_run_suite_and_completed_documents_validate(factory_run, tmp_path):

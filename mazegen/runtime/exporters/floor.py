@@ -9,6 +9,7 @@ a suite directory, ``../experiment/spec.json`` of a run directory).
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
@@ -36,6 +37,19 @@ METRES_PER_UNIT = {"mm": 0.001, "cm": 0.01, "m": 1.0, "px": 0.01}
 
 MAX_CELLS_PER_SIDE = 4096
 """Largest grid side a grid export accepts: beyond it maps are too large to search."""
+
+
+_UNSAFE = re.compile(r"[\s\x00-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
+"""Whitespace, control characters, lone surrogates and the two non-characters XML forbids."""
+
+
+def safe_name(text: str) -> str:
+    """``text`` with each character :data:`_UNSAFE` matches replaced by ``_``.
+
+    Safe in file names, XML text and comments, YAML and the tab-separated lines of
+    MovingAI's ``.scen``, whatever name the user's file has.
+    """
+    return _UNSAFE.sub("_", text)
 
 
 @dataclass(frozen=True)
@@ -67,8 +81,8 @@ class Floor:
 
     @property
     def name(self) -> str:
-        """Stem every exported file is named after (``best-01``)."""
-        return self.source.stem
+        """Stem every exported file is named after (``best-01``), made safe (:func:`safe_name`)."""
+        return safe_name(self.source.stem)
 
     @property
     def where(self) -> str:

@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mazegen.runtime.exporters.floor import ExportOptions, Floor
+from mazegen.runtime.exporters.floor import ExportOptions, Floor, safe_name
 from mazegen.runtime.render import rgb
 
 SDF_VERSION = "1.6"
@@ -209,5 +209,5 @@ def gazebo_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
 
 
 def _comment(text: str) -> str:
-    """Text safe inside an XML comment (no ``--``)."""
-    return re.sub("-{2,}", "-", text)
+    """Text safe inside an XML comment: no character XML forbids (:func:`safe_name`), no ``--``."""
+    return re.sub("-{2,}", "-", safe_name(text))

@@ -14,7 +14,7 @@ import json
 
 import numpy as np
 
-from mazegen.runtime.exporters.floor import ExportOptions, Floor
+from mazegen.runtime.exporters.floor import ExportOptions, Floor, safe_name
 
 OCCUPIED = 0
 FREE = 254
@@ -55,8 +55,9 @@ def ros_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     image = f"{floor.name}.pgm"
     arena = floor.arena
     start, goal = ([_number(v * metres) for v in arena[key]] for key in ("start", "goal"))
+    source = json.dumps(safe_name(floor.source.name))
     lines = [
-        f"# MazeGen scenario {json.dumps(floor.document.get('scenario'))}, {json.dumps(floor.source.name)}:",
+        f"# MazeGen scenario {json.dumps(floor.document.get('scenario'))}, {source}:",
         f"# {grid.cols} x {grid.rows} cells of {_number(resolution)} m, framed by one occupied cell",
         f"# start [{', '.join(start)}], goal [{', '.join(goal)}], "
         f"robot radius {_number(arena.get('robot_radius', 0.0) * metres)} (metres, map frame)",
