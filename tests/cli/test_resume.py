@@ -145,7 +145,8 @@ def test_kill_9_of_the_launcher_leaves_no_process_and_resume_gives_the_same_file
             return bool(list((out / "checkpoints" / "run-01").glob("gen-00000[3-9].ckpt")))
 
         wait_for(mid_run, "a checkpoint of generation 3")
-        # While the launcher lives, the run directory is its own.
+        # Frozen (still alive, and not finishing meanwhile), the run holds its directory.
+        os.killpg(process.pid, signal.SIGSTOP)
         for refused in (
             invoke("resume", str(out), "-q", "--executor", "serial", "--catalog", catalog),
             invoke(*command[3:], "--force", "-q", "--executor", "serial", "--catalog", catalog),
@@ -157,6 +158,8 @@ def test_kill_9_of_the_launcher_leaves_no_process_and_resume_gives_the_same_file
 
         os.kill(process.pid, signal.SIGKILL)  # the launcher only: its workers must follow it
         process.wait()
+        with contextlib.suppress(ProcessLookupError):  # the rest of the run, if any is left
+            os.killpg(process.pid, signal.SIGCONT)
         wait_for(lambda: not processes_of(mark), "the run's workers, fork server and resource tracker ending")
     finally:
         for pid in processes_of(mark):
