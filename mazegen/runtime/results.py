@@ -125,10 +125,11 @@ def _flock(path: Path, operation: int) -> int | None:
     handle = os.open(path, os.O_RDONLY)
     try:
         fcntl.flock(handle, operation)
-    except BaseException as error:
+    except BlockingIOError:
         os.close(handle)
-        if isinstance(error, BlockingIOError):
-            return None
+        return None
+    except BaseException:
+        os.close(handle)
         raise
     return handle
 
