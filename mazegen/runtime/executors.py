@@ -9,11 +9,13 @@ Local workers are processes, one numba thread each when they share the cores (a 
 is mostly serial between its kernels, so processes use the cores better than threads).
 They start from a fork server that has imported NumPy and numba once (else they are
 spawned): never by forking this process, whose OpenMP threads a fork would not copy.
+They end with the launcher, also when it is killed outright (see :func:`die_with_launcher`).
 """
 
 from __future__ import annotations
 
 import multiprocessing
+import multiprocessing.connection
 import os
 import queue
 import signal
@@ -26,6 +28,11 @@ from dataclasses import astuple, replace
 from time import monotonic
 from types import TracebackType
 from typing import Any
+
+try:
+    import fcntl
+except ImportError:  # Windows: the watching thread alone
+    fcntl = None  # type: ignore[assignment]
 
 from mazegen.errors import MazeError
 from mazegen.runtime.evolution import GenerationStats
@@ -184,17 +191,45 @@ class PooledExecutor(Executor):
 class _PoolChannel:
     def __init__(self, messages: Any, stop: Any) -> None:
         self._progress, self._stop = ProgressBatch(messages.put), stop
-        self._parent = os.getppid()
 
     def progress(self, key: RunKey, stats: GenerationStats, *, flush: bool) -> None:
         self._progress.add(key, stats, flush=flush)
 
     def stop_requested(self) -> bool:
-        if os.getppid() != self._parent:
-            # The launcher was killed outright: nobody is left to take this run, and a resumed
-            # launch may already own its checkpoints. Leave at once, writing nothing.
+        if _launcher_gone():  # asked before every checkpoint: none is written after the launcher's death
             os._exit(1)
         return self._stop.is_set()
+
+
+def _launcher_gone() -> bool:
+    launcher = multiprocessing.parent_process()
+    return launcher is not None and not launcher.is_alive()
+
+
+def die_with_launcher() -> None:
+    """End this process (a worker or helper that :func:`process_context` started) as soon as
+    the process that started it ends, also when that one is killed outright.
+
+    Not a parent-death signal: the parent of a forkserver's child is the fork server, which
+    lives as long as its children do. What ends with the launcher is the pipe that
+    ``multiprocessing`` gives each child as the launcher's sentinel. Where the system can, its
+    end raises SIGIO, whose default action ends this process at once, even in a numba kernel
+    that holds the GIL; else (and also) a thread waiting on it exits the process. Either way
+    nothing is left to write checkpoints into a run directory that a ``resume`` may own next.
+    """
+    launcher = multiprocessing.parent_process()
+    if launcher is None:
+        return
+    sentinel = launcher.sentinel
+    if fcntl is not None and hasattr(fcntl, "F_SETOWN") and hasattr(os, "O_ASYNC"):
+        fcntl.fcntl(sentinel, fcntl.F_SETOWN, os.getpid())
+        fcntl.fcntl(sentinel, fcntl.F_SETFL, fcntl.fcntl(sentinel, fcntl.F_GETFL) | os.O_ASYNC)
+    threading.Thread(target=_exit_after, args=(sentinel,), name="mazegen-launcher-watch", daemon=True).start()
+
+
+def _exit_after(sentinel: int) -> None:
+    multiprocessing.connection.wait([sentinel])
+    os._exit(1)
 
 
 _channel: _PoolChannel | None = None
@@ -204,6 +239,7 @@ def _start_worker(messages: Any, stop: Any) -> None:
     global _channel
     # Ctrl-C reaches the whole process group; the launcher decides, and tells the runs through ``stop``.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    die_with_launcher()
     os.environ.setdefault("OMP_WAIT_POLICY", "passive")
     _channel = _PoolChannel(messages, stop)
 

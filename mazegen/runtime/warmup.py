@@ -17,8 +17,10 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import multiprocessing.connection
 import signal
 import sys
+import threading
 
 import numpy as np
 
@@ -28,7 +30,7 @@ from mazegen.runtime.connectivity import reach
 from mazegen.runtime.cspace import grid_of
 from mazegen.runtime.difficulty import survey
 from mazegen.runtime.evolution import breed, evolve
-from mazegen.runtime.executors import process_context
+from mazegen.runtime.executors import die_with_launcher, process_context
 from mazegen.runtime.geometry import ElementTable, world_vertices
 from mazegen.runtime.operators import random_codons, random_genes
 from mazegen.runtime.population import PLACEMENT_GENES, Population
@@ -49,25 +51,68 @@ def compile_kernels(problem: Problem) -> None:
     Raises:
         MazeError: when the spec's fitness module fails, as the run would.
     """
-    helper = process_context().Process(
-        target=_compile_path_kernels_quietly, args=(problem.spec,), daemon=True
-    )
-    helper.start()
+    helper = PathKernelHelper(problem.spec)
     try:
         compile_evolution_kernels(problem)
     except BaseException:
-        helper.terminate()  # the error (or Ctrl-C) is this process's to report
+        helper.stop()  # the error (or Ctrl-C) is this process's to report
         raise
     finally:
         helper.join()
 
 
-def _compile_path_kernels_quietly(spec: Spec) -> None:
-    """:func:`compile_path_kernels` in the helper, which leaves Ctrl-C to the command and, told
-    to stop, exits through Python so that its locks are released (a killed process leaves the
-    resource tracker to warn of a leaked semaphore, after the command's one-line error)."""
+class PathKernelHelper:
+    """A helper process that compiles the path kernels (:func:`compile_path_kernels`).
+
+    Stopped, it exits through Python, so that its locks are released (a killed process leaves
+    the resource tracker to warn of a leaked semaphore, after the command's one-line error).
+    It ends with this process too, should this one be killed outright.
+    """
+
+    def __init__(self, spec: Spec) -> None:
+        context = process_context()
+        self._ready, ready = context.Pipe(duplex=False)
+        self._process = context.Process(target=_compile_path_kernels_quietly, args=(spec, ready), daemon=True)
+        self._process.start()
+        ready.close()  # the helper's copy is the one that tells
+
+    def stop(self) -> None:
+        """Stop compiling: once the helper's handler is in place (or the helper gone), a SIGTERM."""
+        try:
+            multiprocessing.connection.wait([self._ready, self._process.sentinel])
+        finally:
+            self._process.terminate()
+            self.join()
+
+    def join(self) -> None:
+        """Wait for the helper to end."""
+        self._process.join()
+        self._ready.close()
+
+    @property
+    def exitcode(self) -> int | None:
+        """0 when it compiled to the end, 1 when stopped, ``None`` while it runs."""
+        return self._process.exitcode
+
+
+def _compile_path_kernels_quietly(spec: Spec, ready: multiprocessing.connection.Connection) -> None:
+    """:func:`compile_path_kernels` in the helper, which leaves Ctrl-C to the command.
+
+    It compiles on a thread of its own while this main thread waits, so a SIGTERM's handler
+    always runs here, where its ``SystemExit`` ends the process: on the compiling thread it could
+    run inside one of llvmlite's callbacks into Python, which swallow exceptions (compiling
+    would go on, to exit code 0). Ready is said once the handler is in place."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, lambda number, frame: sys.exit(1))
+    die_with_launcher()
+    compiling = threading.Thread(target=_compile_path_kernels_or_not, args=(spec,), daemon=True)
+    compiling.start()
+    ready.send_bytes(b"stoppable")
+    ready.close()
+    compiling.join()
+
+
+def _compile_path_kernels_or_not(spec: Spec) -> None:
     with contextlib.suppress(Exception):  # best effort: whatever is not cached, the runs compile
         compile_path_kernels(spec)
 

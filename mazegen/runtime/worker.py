@@ -27,7 +27,7 @@ from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointStore, read_c
 from mazegen.runtime.documents import best_documents
 from mazegen.runtime.evolution import GenerationStats, RunResult, RunState, evolve
 from mazegen.runtime.problem import Problem
-from mazegen.runtime.results import run_files
+from mazegen.runtime.results import run_files, writing_checkpoints
 
 RunKey = tuple[int, int]
 """(experiment index in the launch, run number from 1)."""
@@ -158,14 +158,7 @@ class _Checkpointer:
     def __init__(self, task: RunTask, last: int) -> None:
         self._store = None
         if task.checkpoints is not None:
-            folder = Path(task.checkpoints)
-            if not folder.parent.is_dir():
-                # The message holds the path: exceptions cross back to the launcher by pickling.
-                raise MazeError(
-                    f"{folder.parent.parent}: a worker cannot see the run directory; checkpoints need "
-                    "a folder shared with the workers (or --checkpoint-every 0)"
-                )
-            self._store = CheckpointStore(directory=folder, experiment=task.build.digest)
+            self._store = CheckpointStore(directory=Path(task.checkpoints), experiment=task.build.digest)
         self._policy, self._last = task.policy, last
         self._saved_at = perf_counter()
 
@@ -185,6 +178,23 @@ class _Checkpointer:
         return False
 
 
+@contextmanager
+def _writing_checkpoints(task: RunTask) -> Iterator[None]:
+    """Hold the run directory's checkpoints while the run may write there."""
+    if task.checkpoints is None:
+        yield
+        return
+    folder = Path(task.checkpoints).parent
+    if not folder.is_dir():
+        # The message holds the path: exceptions cross back to the launcher by pickling.
+        raise MazeError(
+            f"{folder.parent}: a worker cannot see the run directory; checkpoints need "
+            "a folder shared with the workers (or --checkpoint-every 0)"
+        )
+    with writing_checkpoints(folder):
+        yield
+
+
 def run_task(task: RunTask, channel: Channel) -> RunOutcome:
     """Run (or continue) one run to its end, or to a requested stop.
 
@@ -193,7 +203,7 @@ def run_task(task: RunTask, channel: Channel) -> RunOutcome:
     """
     if channel.stop_requested():
         return InterruptedRun(task.key, None, False)
-    with numba_threads(task.threads):
+    with numba_threads(task.threads), _writing_checkpoints(task):
         problem = problem_of(task.build)
         settings = problem.spec.evolution
         checkpointer = _Checkpointer(task, settings.generations)

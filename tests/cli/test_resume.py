@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import subprocess
 import sys
 import time
+import uuid
 from pathlib import Path
 
 import pytest
@@ -92,29 +94,84 @@ def test_resume_refuses_what_it_cannot_continue(tmp_path, uninterrupted):
     assert errors["finished"].stderr.strip().endswith("this run directory is finished: nothing to resume")
 
 
-def test_kill_9_then_resume_gives_the_same_files(tmp_path, uninterrupted):
-    out = tmp_path / "run"
+RUN_MARK = "MAZEGEN_TEST_RUN"
+"""An environment variable that marks every process of a run started by a test, workers included."""
+
+
+def processes_of(mark: str) -> list[int]:
+    """The live processes (zombies aside) whose environment carries ``RUN_MARK=mark``."""
+    needle = f"\0{RUN_MARK}={mark}\0".encode()
+    found = []
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            environ = (entry / "environ").read_bytes()
+            state = (entry / "stat").read_text().rpartition(")")[2].split()[0]
+        except OSError:  # gone meanwhile, or another user's
+            continue
+        if state != "Z" and needle in b"\0" + environ + b"\0":
+            found.append(int(entry.name))
+    return found
+
+
+def wait_for(condition, what: str, timeout: float = 120) -> None:
+    """Poll ``condition`` until it holds; fail after a generous ``timeout`` (seconds)."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"{what}: not within {timeout} s"
+        time.sleep(0.02)
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="finds the run's processes in /proc")
+def test_kill_9_of_the_launcher_leaves_no_process_and_resume_gives_the_same_files(tmp_path, uninterrupted):
+    out, catalog, mark = tmp_path / "run", str(tmp_path / "c.sqlite"), uuid.uuid4().hex
     command = [sys.executable, "-m", "mazegen", "run", str(SPEC), *settings_args(), "-o", str(out)]
-    # Two local worker processes; checkpoints every generation; its own process group to kill.
-    process = subprocess.Popen(
-        [*command, "--checkpoint-every", "1", "--catalog", str(tmp_path / "c.sqlite"), "-q"],
-        start_new_session=True,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.PIPE,
-    )
+    errors = tmp_path / "stderr.txt"
+    local = ["--executor", "local", "--workers", "2", "--checkpoint-every", "1", "--catalog", catalog, "-q"]
+    with errors.open("wb") as stderr:  # a file, not a pipe: a pipe would wait for orphans holding it
+        # Two local worker processes, checkpoints every generation, in a session of its own.
+        process = subprocess.Popen(
+            [*command, *local],
+            start_new_session=True,
+            stdout=subprocess.DEVNULL,
+            stderr=stderr,
+            env={**os.environ, RUN_MARK: mark},
+        )
     try:
-        deadline = time.monotonic() + 120
-        while not list((out / "checkpoints" / "run-01").glob("gen-00000[3-9].ckpt")):
-            assert process.poll() is None, process.stderr.read().decode() if process.stderr else ""
-            assert time.monotonic() < deadline, "no checkpoint within two minutes"
-            time.sleep(0.01)
+
+        def mid_run() -> bool:
+            assert process.poll() is None, errors.read_text()
+            return bool(list((out / "checkpoints" / "run-01").glob("gen-00000[3-9].ckpt")))
+
+        wait_for(mid_run, "a checkpoint of generation 3")
+        # Frozen (still alive, and not finishing meanwhile), the run holds its directory.
+        os.killpg(process.pid, signal.SIGSTOP)
+        for refused in (
+            invoke("resume", str(out), "-q", "--executor", "serial", "--catalog", catalog),
+            invoke(*command[3:], "--force", "-q", "--executor", "serial", "--catalog", catalog),
+        ):
+            assert refused.exit_code == 1
+            assert refused.stderr.count("\n") == 1, refused.stderr
+            assert refused.stderr.strip().endswith("this run directory is in use by another mazegen process")
+        assert (out / "experiment.json").is_file()  # --force removed nothing
+
+        os.kill(process.pid, signal.SIGKILL)  # the launcher only: its workers must follow it
+        process.wait()
+        with contextlib.suppress(ProcessLookupError):  # the rest of the run, if any is left
+            os.killpg(process.pid, signal.SIGCONT)
+        wait_for(lambda: not processes_of(mark), "the run's workers, fork server and resource tracker ending")
     finally:
-        os.killpg(process.pid, signal.SIGKILL)
+        for pid in processes_of(mark):
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(process.pid, signal.SIGKILL)
         process.wait()
     assert not (out / "stats.csv").exists(), "the run finished before it was killed"
 
-    result = invoke("resume", str(out), "-q", "--catalog", str(tmp_path / "c.sqlite"))
+    result = invoke("resume", str(out), "-q", "--catalog", catalog)
     assert result.exit_code == 0, result.output
     assert file_digests(out) == uninterrupted
-    listed = invoke("runs", "--catalog", str(tmp_path / "c.sqlite")).output.splitlines()
+    listed = invoke("runs", "--catalog", catalog).output.splitlines()
     assert len(listed) == 3 and all(" finished " in line for line in listed[1:])

@@ -53,20 +53,13 @@ def test_a_run_after_compiling_ahead_compiles_nothing(tmp_path):
 STOPPED_HELPER = textwrap.dedent(
     """
     import sys
-    import time
 
     def main():
         import mazegen
-        from mazegen.runtime.executors import process_context
-        from mazegen.runtime.warmup import _compile_path_kernels_quietly
+        from mazegen.runtime.warmup import PathKernelHelper
 
-        helper = process_context().Process(
-            target=_compile_path_kernels_quietly, args=(mazegen.load(sys.argv[1]),), daemon=True
-        )
-        helper.start()
-        time.sleep(5)  # well into compiling: the cache is empty
-        helper.terminate()  # as compile_kernels does when the command fails or is interrupted
-        helper.join(120)
+        helper = PathKernelHelper(mazegen.load(sys.argv[1]))  # the cache is empty: it compiles for long
+        helper.stop()  # at once, as compile_kernels does when the command fails early or is interrupted
         print(helper.exitcode)
 
     if __name__ == "__main__":
@@ -75,14 +68,15 @@ STOPPED_HELPER = textwrap.dedent(
 )
 
 
-def test_a_stopped_helper_exits_through_python(tmp_path):
+def test_a_helper_stopped_at_once_exits_through_python(tmp_path):
     # Killed outright, the helper would leave a semaphore behind, and the resource tracker would
-    # warn of it after the command's one-line error.
+    # warn of it after the command's one-line error. Stopped before its handler is in place, it
+    # would be killed; stopped while numba calls back into Python, its exit would be swallowed.
     script = tmp_path / "stopped.py"
     script.write_text(STOPPED_HELPER)
     env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path / "cache")}
     args = [sys.executable, str(script), str(EXAMPLES / "factory.maze")]
     done = subprocess.run(args, capture_output=True, text=True, env=env, timeout=300, check=False)
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == "1"  # sys.exit(1) from its handler, not -15 for a kill
+    assert done.stdout.strip() == "1"  # sys.exit(1) from its handler, not -15 for a kill nor 0 for done
     assert done.stderr == ""
