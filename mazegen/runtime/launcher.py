@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 from mazegen.errors import MazeError
 from mazegen.fileio import make_folder
 from mazegen.runtime.catalog import Catalog, default_catalog
-from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointStore
+from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointShape, CheckpointStore
 from mazegen.runtime.evolution import RunResult
 from mazegen.runtime.executors import Executor, executor_for
 from mazegen.runtime.progress import QuietReporter, Reporter, note_first_compile
@@ -118,7 +118,11 @@ class _Launched:
         for run in range(1, self.runs + 1):
             resume_from, done, folder = None, 0, None
             if self.directory is not None:
-                store = CheckpointStore(directory=self.directory.checkpoints(run), experiment=build.digest)
+                store = CheckpointStore(
+                    directory=self.directory.checkpoints(run),
+                    experiment=build.digest,
+                    shape=CheckpointShape.of(job.experiment.problem),
+                )
                 found, warnings = store.latest()
                 for warning in warnings:
                     reporter.note(warning)

@@ -22,22 +22,9 @@ from mazegen.runtime import catalog as catalog_module
 from mazegen.runtime import results
 from mazegen.runtime.catalog import Catalog
 from mazegen.runtime.results import RunDirectory, staged_directory
-from tests.conftest import EXAMPLES
-from tests.runtime.rundirs import file_digests
-
-SPEC = EXAMPLES / "factory.maze"
-SMALL = {"seed": 2, "runs": 2, "population": 30, "generations": 3}
-
+from tests.runtime.rundirs import SMALL, SPEC, Killed, file_digests, small_run
 
 FULL = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
-
-
-class Killed(BaseException):
-    """Stands for a kill -9 at a chosen point: no ``except Exception`` handles it."""
-
-
-def small_run(out: Path, catalog: Path | bool = False, *, source: Path = SPEC, **options) -> None:
-    mazegen.run(source, **SMALL, out_dir=out, catalog=catalog, executor="serial", **options)
 
 
 def statuses(catalog: Path) -> list[str]:
