@@ -94,7 +94,8 @@ class CheckpointShape:
             raise ValueError("fitness neither finite nor -inf (invalid)")
         if not 0 <= state.generation <= self.generations:
             raise ValueError(f"generation {state.generation} outside 0..{self.generations}")
-        np.random.PCG64().state = state.rng_state  # raises for a state the run's generator cannot take
+        # Raises for a state the run's generator (as evolve restores it) cannot take.
+        np.random.default_rng().bit_generator.state = state.rng_state
 
 
 @dataclass(frozen=True)
