@@ -15,23 +15,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from click.testing import CliRunner
 
-from mazegen.cli.main import main
 from mazegen.runtime.checkpoint import RunState, checkpoint_bytes, read_checkpoint
 from mazegen.runtime.results import RunDirectory
-from tests.runtime.rundirs import Killed, file_digests, small_run
-
-
-def invoke(*args: str):
-    return CliRunner().invoke(main, list(args), catch_exceptions=False)
-
-
-@pytest.fixture(scope="module")
-def reference(tmp_path_factory) -> dict[str, str]:
-    out = tmp_path_factory.mktemp("reference") / "run"
-    small_run(out)
-    return file_digests(out)
+from tests.runtime.rundirs import Killed, file_digests, invoke, small_run
 
 
 @pytest.fixture(scope="module")
@@ -125,7 +112,7 @@ EDITS: dict[str, Callable[[RunState], RunState]] = {
 
 
 @pytest.mark.parametrize("edit", EDITS)
-def test_a_checkpoint_edited_with_valid_crcs_is_damaged_and_the_one_before_used(run, reference, edit):
+def test_a_checkpoint_edited_with_valid_crcs_is_damaged_and_the_one_before_used(run, small_reference, edit):
     newest = run / "checkpoints" / "run-01" / "gen-000003.ckpt"
     with zipfile.ZipFile(newest) as archive:
         experiment = json.loads(archive.read("state.json"))["experiment"]
@@ -139,4 +126,4 @@ def test_a_checkpoint_edited_with_valid_crcs_is_damaged_and_the_one_before_used(
         "run-01/gen-000003.ckpt: damaged checkpoint" in result.stderr
         and "using the one before" in result.stderr
     )
-    assert file_digests(run) == reference
+    assert file_digests(run) == small_reference

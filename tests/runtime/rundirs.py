@@ -5,7 +5,10 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
+from click.testing import CliRunner, Result
+
 import mazegen
+from mazegen.cli.main import main
 from tests.conftest import EXAMPLES
 
 NOT_DETERMINISTIC = ("timing.csv",)
@@ -33,3 +36,8 @@ class Killed(BaseException):
 def small_run(out: Path, catalog: Path | bool = False, *, source: Path = SPEC, **options) -> None:
     """Run :data:`SMALL` into ``out``, in this process."""
     mazegen.run(source, **SMALL, out_dir=out, catalog=catalog, executor="serial", **options)
+
+
+def invoke(*args: str) -> Result:
+    """A ``mazegen`` command run in this process."""
+    return CliRunner().invoke(main, list(args), catch_exceptions=False)

@@ -12,17 +12,15 @@ import sqlite3
 from pathlib import Path
 
 import pytest
-from click.testing import CliRunner
 
 import mazegen
 from mazegen import api, fileio
-from mazegen.cli.main import main
 from mazegen.errors import MazeError
 from mazegen.runtime import catalog as catalog_module
 from mazegen.runtime import results
 from mazegen.runtime.catalog import Catalog
 from mazegen.runtime.results import RunDirectory, staged_directory
-from tests.runtime.rundirs import SMALL, SPEC, Killed, file_digests, small_run
+from tests.runtime.rundirs import SMALL, SPEC, Killed, file_digests, invoke, small_run
 
 FULL = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
@@ -30,17 +28,6 @@ FULL = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 def statuses(catalog: Path) -> list[str]:
     with sqlite3.connect(catalog) as db:
         return [row[0] for row in db.execute("SELECT status FROM experiments")]
-
-
-def invoke(*args: str):
-    return CliRunner().invoke(main, list(args), catch_exceptions=False)
-
-
-@pytest.fixture(scope="module")
-def reference(tmp_path_factory) -> dict[str, str]:
-    out = tmp_path_factory.mktemp("reference") / "run"
-    small_run(out)
-    return file_digests(out)
 
 
 def replace_failing_at(
@@ -71,13 +58,13 @@ def test_a_kill_during_the_start_leaves_no_run_directory(tmp_path, monkeypatch, 
     assert (out / "stats.csv").is_file()
 
 
-def test_a_stage_left_by_a_killed_start_is_deleted_by_the_next_run(tmp_path, reference):
+def test_a_stage_left_by_a_killed_start_is_deleted_by_the_next_run(tmp_path, small_reference):
     out = tmp_path / "run"
     stage = tmp_path / f".run.{results.START}x1y2"
     (stage / "experiment").mkdir(parents=True)
     (stage / "experiment.json").write_text("{}")
     small_run(out)
-    assert sorted(os.listdir(tmp_path)) == ["run"] and file_digests(out) == reference
+    assert sorted(os.listdir(tmp_path)) == ["run"] and file_digests(out) == small_reference
 
 
 def test_a_run_that_fails_before_any_progress_leaves_nothing_and_is_catalogued_failed(tmp_path):
@@ -99,7 +86,7 @@ def test_a_run_that_fails_before_any_progress_leaves_nothing_and_is_catalogued_f
 
 
 @pytest.mark.parametrize("kill", ["catalog", "checkpoints"])
-def test_resume_ends_a_directory_killed_while_ending(tmp_path, monkeypatch, reference, kill):
+def test_resume_ends_a_directory_killed_while_ending(tmp_path, monkeypatch, small_reference, kill):
     out, catalog = tmp_path / "run", tmp_path / "c.sqlite"
     with monkeypatch.context() as patched:
         if kill == "catalog":
@@ -119,18 +106,18 @@ def test_resume_ends_a_directory_killed_while_ending(tmp_path, monkeypatch, refe
 
     result = invoke("resume", str(out), "-q", "--executor", "serial", "--catalog", str(catalog))
     assert result.exit_code == 0, result.output
-    assert file_digests(out) == reference and not (out / "checkpoints").exists()
+    assert file_digests(out) == small_reference and not (out / "checkpoints").exists()
     assert statuses(catalog) == ["finished"]
 
 
-def test_resume_deletes_checkpoints_whose_deletion_was_killed(tmp_path, reference):
+def test_resume_deletes_checkpoints_whose_deletion_was_killed(tmp_path, small_reference):
     out = tmp_path / "run"
     small_run(out)
     (out / results.DROPPED / "run-01").mkdir(parents=True)  # renamed, not yet deleted
     (out / results.DROPPED / "run-01" / "gen-000003.ckpt").write_bytes(b"checkpoint")
     result = invoke("resume", str(out), "-q")
     assert result.exit_code == 1 and "finished: nothing to resume" in result.stderr
-    assert file_digests(out) == reference
+    assert file_digests(out) == small_reference
 
 
 def test_a_full_disk_at_a_checkpoint_is_one_line_naming_the_file(tmp_path, monkeypatch):
@@ -144,7 +131,7 @@ def test_a_full_disk_at_a_checkpoint_is_one_line_naming_the_file(tmp_path, monke
     assert not out.exists()  # nothing to resume from: nothing kept
 
 
-def test_a_full_disk_after_progress_keeps_what_resume_needs(tmp_path, monkeypatch, reference):
+def test_a_full_disk_after_progress_keeps_what_resume_needs(tmp_path, monkeypatch, small_reference):
     out = tmp_path / "run"
     with monkeypatch.context() as patched:
         replace_failing_at(patched, 2, FULL, under=tmp_path, suffix=".ckpt")
@@ -154,10 +141,10 @@ def test_a_full_disk_after_progress_keeps_what_resume_needs(tmp_path, monkeypatc
             small_run(out)
     assert (out / "run-01").is_dir()
     api.resume(out, catalog=False)
-    assert file_digests(out) == reference
+    assert file_digests(out) == small_reference
 
 
-def test_a_read_only_disk_is_one_line_and_replaces_nothing(tmp_path, monkeypatch, reference):
+def test_a_read_only_disk_is_one_line_and_replaces_nothing(tmp_path, monkeypatch, small_reference):
     out, build = tmp_path / "run", tmp_path / "build"
     small_run(out)
     mazegen.build(SPEC, build)
@@ -169,7 +156,7 @@ def test_a_read_only_disk_is_one_line_and_replaces_nothing(tmp_path, monkeypatch
     with pytest.raises(MazeError) as error:
         small_run(out, source=build, force=True)  # a build: running a spec needs a temporary folder
     assert str(error.value) == f"{out}: cannot write: Read-only file system"
-    assert file_digests(out) == reference
+    assert file_digests(out) == small_reference
     suite = pytest.raises(MazeError, match="suite: cannot write: Read-only file system")
     with suite, staged_directory(tmp_path / "suite", force=False):
         pass
