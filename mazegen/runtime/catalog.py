@@ -152,7 +152,7 @@ class Catalog:
         except sqlite3.Error as error:
             if not existed and getattr(error, "sqlite_errorname", "") == "SQLITE_CANTOPEN":
                 raise MazeError("cannot write in this folder", filename=str(path.parent)) from None
-            raise _disk_error(error, path) or MazeError(
+            raise _disk_error(error, path, "use") or MazeError(
                 f"not a MazeGen catalog ({error})", filename=str(path)
             ) from None
         return cls(connection, path)
@@ -181,7 +181,7 @@ class Catalog:
             with _transaction(self._db, immediate=True):
                 yield self._db
         except sqlite3.Error as error:
-            raise _disk_error(error, self.path) or error from None
+            raise _disk_error(error, self.path, "write") or error from None
 
     def start_experiment(
         self,
@@ -325,11 +325,11 @@ _DISK_ERRORS = ("SQLITE_FULL", "SQLITE_READONLY", "SQLITE_IOERR", "SQLITE_CANTOP
 """SQLite's errors of the disk beneath (full, read-only…), not of the file's contents."""
 
 
-def _disk_error(error: sqlite3.Error, path: Path) -> MazeError | None:
-    """A one-line error for a catalog its disk cannot write (``None`` for any other error)."""
+def _disk_error(error: sqlite3.Error, path: Path, doing: str) -> MazeError | None:
+    """A one-line error for a catalog its disk refuses (``None`` for an error of its contents)."""
     if not getattr(error, "sqlite_errorname", "").startswith(_DISK_ERRORS):
         return None
-    return MazeError(f"cannot write the catalog ({error})", filename=str(path))
+    return MazeError(f"cannot {doing} the catalog ({error})", filename=str(path))
 
 
 def _has_tables(connection: sqlite3.Connection) -> bool:

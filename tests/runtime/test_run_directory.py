@@ -194,5 +194,5 @@ def test_a_catalog_on_a_full_disk_is_not_called_damaged(tmp_path, monkeypatch):
         raise full
 
     monkeypatch.setattr(catalog_module.sqlite3, "connect", refused)
-    with pytest.raises(MazeError, match=r"cannot write the catalog \(database or disk is full\)"):
+    with pytest.raises(MazeError, match=r"cannot use the catalog \(database or disk is full\)"):
         Catalog.open(path, create=True)
