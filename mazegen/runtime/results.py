@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import glob
 import io
 import json
 import os
@@ -146,7 +147,12 @@ def _swap(stage: Path, target: Path) -> None:
     with disk_errors(target):
         if target.exists():
             target.rename(old)
-        stage.rename(target)
+        try:
+            stage.rename(target)
+        except OSError:
+            if old.exists():
+                old.rename(target)  # nothing already written is lost
+            raise
     shutil.rmtree(old, ignore_errors=True)
 
 
@@ -331,7 +337,7 @@ class RunDirectory:
 
 def _delete_abandoned_starts(path: Path) -> None:
     """Delete the folders a killed launch staged for ``path``: those no process holds locked."""
-    for stage in path.parent.glob(f".{path.name}.{START}*"):
+    for stage in path.parent.glob(f".{glob.escape(path.name)}.{START}*"):
         abandoned = RunDirectory(stage)
         try:
             abandoned.lock()

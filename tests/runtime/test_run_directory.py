@@ -196,3 +196,23 @@ def test_a_catalog_on_a_full_disk_is_not_called_damaged(tmp_path, monkeypatch):
     monkeypatch.setattr(catalog_module.sqlite3, "connect", refused)
     with pytest.raises(MazeError, match=r"cannot use the catalog \(database or disk is full\)"):
         Catalog.open(path, create=True)
+
+
+def test_a_replacement_that_cannot_be_renamed_into_place_keeps_the_old_directory(
+    tmp_path, monkeypatch, small_reference
+):
+    out, build = tmp_path / "run", tmp_path / "build"
+    small_run(out)
+    mazegen.build(SPEC, build)
+    real = Path.rename
+
+    def rename(self: Path, target):
+        staged = self.name.startswith(f".run.{results.START}") and not self.name.endswith(".old")
+        if Path(target) == out and staged:
+            raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+        return real(self, target)
+
+    monkeypatch.setattr(Path, "rename", rename)
+    with pytest.raises(MazeError, match="run: cannot write: No space left on device"):
+        small_run(out, source=build, force=True)
+    assert file_digests(out) == small_reference and sorted(os.listdir(tmp_path)) == ["build", "run"]
