@@ -135,7 +135,7 @@ def staged_directory(target: Path, *, force: bool, kind: str = "") -> Iterator[P
 def _stage(target: Path, kind: str) -> Path:
     """A new private folder beside ``target`` (``.NAME.KIND…``), to be renamed to ``target``."""
     make_folder(target.parent)
-    with disk_errors(target):
+    with disk_errors(target, "create the folder"):
         stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.{kind}", dir=target.parent))
         stage.chmod(FOLDER_MODE)
     return stage

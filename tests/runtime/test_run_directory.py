@@ -155,9 +155,9 @@ def test_a_read_only_disk_is_one_line_and_replaces_nothing(tmp_path, monkeypatch
     monkeypatch.setattr(results.tempfile, "mkdtemp", read_only)
     with pytest.raises(MazeError) as error:
         small_run(out, source=build, force=True)  # a build: running a spec needs a temporary folder
-    assert str(error.value) == f"{out}: cannot write: Read-only file system"
+    assert str(error.value) == f"{out}: cannot create the folder: Read-only file system"
     assert file_digests(out) == small_reference
-    suite = pytest.raises(MazeError, match="suite: cannot write: Read-only file system")
+    suite = pytest.raises(MazeError, match="suite: cannot create the folder: Read-only file system")
     with suite, staged_directory(tmp_path / "suite", force=False):
         pass
 
