@@ -11,7 +11,6 @@ Example::
 from __future__ import annotations
 
 import os
-import shutil
 import tempfile
 from collections.abc import Sequence
 from pathlib import Path
@@ -221,12 +220,8 @@ def _resumable(run_dir: Path, build: Path) -> Experiment:
     """The experiment of an interrupted run directory, loaded from a copy of its build in ``build``.
 
     Raises:
-        MazeError: for a folder that is not a run directory, or a finished one.
+        MazeError: for a folder that is not a run directory, a finished or damaged one.
     """
-    from mazegen.runtime.experiment import Experiment
-    from mazegen.runtime.results import RunDirectory
+    from mazegen.runtime.resumable import resumable_experiment
 
-    directory = RunDirectory(run_dir)
-    directory.check_unfinished()
-    # Loading fitness.py from the run directory would leave its bytecode cache there.
-    return Experiment.from_build_dir(shutil.copytree(directory.build, build))
+    return resumable_experiment(run_dir, copy_to=build)

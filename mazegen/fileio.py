@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import os
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from mazegen.errors import MazeError
@@ -32,19 +34,34 @@ def make_folder(path: Path) -> None:
         raise MazeError(f"cannot create the folder: {error.strerror or error}", filename=str(path)) from None
 
 
+@contextmanager
+def disk_errors(path: Path, doing: str = "write") -> Iterator[None]:
+    """Turn an :class:`OSError` of the block (disk full, read-only file system…) into a one-line
+    :class:`MazeError` naming ``path``: ``cannot write: No space left on device``."""
+    try:
+        yield
+    except OSError as error:
+        raise MazeError(f"cannot {doing}: {error.strerror or error}", filename=str(path)) from None
+
+
 def write_atomic(path: Path, data: str | bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file and a rename."""
+    """Write ``data`` to ``path`` through a temporary file and a rename: whole or not at all.
+
+    Raises:
+        MazeError: when the file cannot be written (disk full, read-only file system…).
+    """
     make_folder(path.parent)
     payload = data.encode("utf-8") if isinstance(data, str) else data
-    fd, temp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            os.fchmod(handle.fileno(), FILE_MODE)
-            handle.write(payload)
-        os.replace(temp, path)
-    except BaseException:
-        Path(temp).unlink(missing_ok=True)
-        raise
+    with disk_errors(path):
+        fd, temp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+        try:
+            with os.fdopen(fd, "wb") as handle:
+                os.fchmod(handle.fileno(), FILE_MODE)
+                handle.write(payload)
+            os.replace(temp, path)
+        except BaseException:
+            Path(temp).unlink(missing_ok=True)
+            raise
 
 
 def read_text(path: Path, what: str) -> str:

@@ -52,3 +52,13 @@ def factory_run(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("factory") / "run"
     mazegen.run(spec, runs=2, population=80, generations=3, out_dir=out)
     return out
+
+
+@pytest.fixture(scope="session")
+def small_reference(tmp_path_factory) -> dict[str, str]:
+    """The file digests of a ``tests.runtime.rundirs.small_run`` never interrupted."""
+    from tests.runtime.rundirs import file_digests, small_run
+
+    out = tmp_path_factory.mktemp("small-reference") / "run"
+    small_run(out)
+    return file_digests(out)

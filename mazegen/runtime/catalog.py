@@ -134,6 +134,7 @@ class Catalog:
             raise MazeError("the catalog's folder does not exist", filename=str(path))
         if not create and not path.is_file():
             raise MazeError("no catalog here (runs write one beside their run directory)", filename=str(path))
+        existed = path.exists()
         try:
             connection = sqlite3.connect(path, timeout=BUSY_SECONDS, isolation_level=None)
             connection.row_factory = sqlite3.Row
@@ -149,7 +150,11 @@ class Catalog:
             elif version != SCHEMA_VERSION:
                 raise sqlite3.DatabaseError(f"schema version {version}, this MazeGen reads {SCHEMA_VERSION}")
         except sqlite3.Error as error:
-            raise MazeError(f"not a MazeGen catalog ({error})", filename=str(path)) from None
+            if not existed and getattr(error, "sqlite_errorname", "") == "SQLITE_CANTOPEN":
+                raise MazeError("cannot write in this folder", filename=str(path.parent)) from None
+            raise _disk_error(error, path, "use") or MazeError(
+                f"not a MazeGen catalog ({error})", filename=str(path)
+            ) from None
         return cls(connection, path)
 
     def close(self) -> None:
@@ -172,8 +177,11 @@ class Catalog:
 
     @contextmanager
     def _write(self) -> Iterator[sqlite3.Connection]:
-        with _transaction(self._db, immediate=True):
-            yield self._db
+        try:
+            with _transaction(self._db, immediate=True):
+                yield self._db
+        except sqlite3.Error as error:
+            raise _disk_error(error, self.path, "write") or error from None
 
     def start_experiment(
         self,
@@ -311,6 +319,17 @@ class Catalog:
     def query(self, sql: str, parameters: tuple[Any, ...] = ()) -> list[sqlite3.Row]:
         """Rows of a read-only query (see :mod:`mazegen.runtime.catalog_query`)."""
         return self._db.execute(sql, parameters).fetchall()
+
+
+_DISK_ERRORS = ("SQLITE_FULL", "SQLITE_READONLY", "SQLITE_IOERR", "SQLITE_CANTOPEN", "SQLITE_PERM")
+"""SQLite's errors of the disk beneath (full, read-only…), not of the file's contents."""
+
+
+def _disk_error(error: sqlite3.Error, path: Path, doing: str) -> MazeError | None:
+    """A one-line error for a catalog its disk refuses (``None`` for an error of its contents)."""
+    if not getattr(error, "sqlite_errorname", "").startswith(_DISK_ERRORS):
+        return None
+    return MazeError(f"cannot {doing} the catalog ({error})", filename=str(path))
 
 
 def _has_tables(connection: sqlite3.Connection) -> bool:

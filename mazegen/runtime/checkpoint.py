@@ -18,13 +18,17 @@ import zipfile
 import zlib
 from dataclasses import astuple, dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
 from mazegen.runtime.evolution import GenerationStats, RunState
+from mazegen.runtime.population import PLACEMENT_GENES
+
+if TYPE_CHECKING:
+    from mazegen.runtime.problem import Problem
 
 FORMAT = "mazegen-checkpoint"
 VERSION = 1
@@ -39,7 +43,59 @@ _NAME = re.compile(r"gen-(\d+)\.ckpt")
 
 
 class DamagedCheckpoint(MazeError):
-    """A checkpoint that cannot be read back: truncated, corrupted or from another experiment."""
+    """A checkpoint that cannot be read back: truncated, corrupted, edited or from another experiment."""
+
+
+class ForeignCheckpoint(DamagedCheckpoint):
+    """A whole checkpoint of another experiment (or of the same one before its build was edited)."""
+
+
+@dataclass(frozen=True)
+class CheckpointShape:
+    """What the checkpoints of one experiment hold, so that an edited one is refused as damaged.
+
+    Attributes:
+        population: Individuals (rows of every array).
+        genome: Structure codons per individual, each in ``0..codon_max``.
+        slots: Element slots (rows of placement genes per individual).
+        codon_max: The largest codon.
+        generations: The experiment's last generation.
+    """
+
+    population: int
+    genome: int
+    slots: int
+    codon_max: int
+    generations: int
+
+    @classmethod
+    def of(cls, problem: Problem) -> CheckpointShape:
+        """The shape of ``problem``'s checkpoints."""
+        settings = problem.spec.evolution
+        return cls(
+            settings.population, settings.genome, problem.slots, settings.codon_max, settings.generations
+        )
+
+    def check(self, state: RunState) -> None:
+        """Raise :class:`ValueError` unless ``state`` could be one of this experiment's runs."""
+        arrays = (
+            ("codons", state.codons, np.int32, (self.population, self.genome)),
+            ("placement", state.genes, np.uint16, (self.population, self.slots, PLACEMENT_GENES)),
+            ("fitness", state.fitness, np.float64, (self.population,)),
+        )
+        for name, array, dtype, shape in arrays:
+            if array.dtype != dtype or array.shape != shape:
+                raise ValueError(
+                    f"{name} is {array.dtype}{list(array.shape)}, not {np.dtype(dtype)}{list(shape)}"
+                )
+        if state.codons.size and not 0 <= state.codons.min() <= state.codons.max() <= self.codon_max:
+            raise ValueError(f"codons outside 0..{self.codon_max}")
+        if np.isnan(state.fitness).any() or (state.fitness == np.inf).any():
+            raise ValueError("fitness neither finite nor -inf (invalid)")
+        if not 0 <= state.generation <= self.generations:
+            raise ValueError(f"generation {state.generation} outside 0..{self.generations}")
+        # Raises for a state the run's generator (as evolve restores it) cannot take.
+        np.random.default_rng().bit_generator.state = state.rng_state
 
 
 @dataclass(frozen=True)
@@ -94,11 +150,17 @@ def _entry(name: str) -> zipfile.ZipInfo:
     return zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
 
 
-def read_checkpoint(path: Path, *, experiment: str) -> RunState:
+def read_checkpoint(path: Path, *, experiment: str, shape: CheckpointShape | None = None) -> RunState:
     """Read a checkpoint back, checking every member and that it belongs to ``experiment``.
 
+    Args:
+        path: The file.
+        experiment: Digest of the experiment's build.
+        shape: What its arrays, codons, fitness and generator state must be; a file edited with
+            valid CRCs that breaks them is damaged too.
+
     Raises:
-        DamagedCheckpoint: for a missing, truncated, corrupted or foreign file.
+        DamagedCheckpoint: for a missing, truncated, corrupted, edited or foreign file.
     """
     try:
         with zipfile.ZipFile(path) as archive:
@@ -108,11 +170,15 @@ def read_checkpoint(path: Path, *, experiment: str) -> RunState:
                 name: np.load(io.BytesIO(archive.read(f"{name}.npy")), allow_pickle=False)
                 for name in ("codons", "placement", "fitness")
             }
+        if not isinstance(record, dict):
+            raise ValueError("state.json is not an object")
+        if record.get("experiment") != experiment:
+            raise ForeignCheckpoint("checkpoint of another experiment", filename=str(path))
         state = _state(record, arrays)
+        if shape is not None:
+            shape.check(state)
     except (OSError, EOFError, zipfile.BadZipFile, zlib.error, KeyError, ValueError, TypeError) as error:
         raise DamagedCheckpoint(f"damaged checkpoint ({error})", filename=str(path)) from None
-    if record.get("experiment") != experiment:
-        raise DamagedCheckpoint("checkpoint of another experiment", filename=str(path))
     return state
 
 
@@ -121,9 +187,13 @@ def _state(record: dict[str, Any], arrays: dict[str, np.ndarray]) -> RunState:
         raise ValueError(f"not a {FORMAT} version {VERSION}")
     generation = int(record["generation"])
     stats = tuple(GenerationStats(*row) for row in record["stats"])
+    if any(row.generation != number for number, row in enumerate(stats)) or not all(
+        isinstance(value, (int, float)) for row in stats for value in astuple(row)
+    ):
+        raise ValueError("damaged statistics")
     codons, genes, fitness = arrays["codons"], arrays["placement"], arrays["fitness"]
-    population = codons.shape[0]
-    if len(stats) != generation + 1 or genes.shape[0] != population or fitness.shape != (population,):
+    population = codons.shape[0] if codons.ndim else -1
+    if len(stats) != generation + 1 or genes.shape[:1] != (population,) or fitness.shape != (population,):
         raise ValueError("inconsistent arrays and statistics")
     return RunState(generation, codons, genes, fitness, record["rng"], stats)
 
@@ -131,9 +201,12 @@ def _state(record: dict[str, Any], arrays: dict[str, np.ndarray]) -> RunState:
 class CheckpointStore:
     """The checkpoints of one run, in their own folder."""
 
-    def __init__(self, *, directory: Path, experiment: str, keep: int = KEEP) -> None:
+    def __init__(
+        self, *, directory: Path, experiment: str, shape: CheckpointShape | None = None, keep: int = KEEP
+    ) -> None:
         self.directory = directory
         self.experiment = experiment
+        self.shape = shape
         self.keep = keep
 
     def paths(self) -> list[Path]:
@@ -161,15 +234,23 @@ class CheckpointStore:
             MazeError: when the run has checkpoints and none of them is usable.
         """
         warnings: list[str] = []
+        foreign = True
         for path in self.paths():
             try:
-                state = read_checkpoint(path, experiment=self.experiment)
+                state = read_checkpoint(path, experiment=self.experiment, shape=self.shape)
             except DamagedCheckpoint as error:
                 if not path.exists():
                     continue  # dropped by a run that was still finishing its generation
                 warnings.append(f"{error}; using the one before")
+                foreign = foreign and isinstance(error, ForeignCheckpoint)
                 continue
             return (path, state.generation), warnings
+        if warnings and foreign:
+            raise MazeError(
+                "checkpoints of another build: were the files of experiment/ edited since the run started? "
+                "(restore them to resume, or start again with mazegen run --force)",
+                filename=str(self.directory),
+            )
         if warnings:
             raise MazeError(
                 f"no usable checkpoint ({len(warnings)} damaged); delete this folder to run that run again",

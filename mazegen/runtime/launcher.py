@@ -12,14 +12,15 @@ import os
 import signal
 import threading
 from collections.abc import Iterator
-from contextlib import ExitStack, contextmanager
+from contextlib import ExitStack, contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from mazegen.errors import MazeError
 from mazegen.fileio import make_folder
 from mazegen.runtime.catalog import Catalog, default_catalog
-from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointStore
+from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointShape, CheckpointStore
 from mazegen.runtime.evolution import RunResult
 from mazegen.runtime.executors import Executor, executor_for
 from mazegen.runtime.progress import QuietReporter, Reporter, note_first_compile
@@ -98,25 +99,30 @@ class _Launched:
             if job.resume:
                 self.directory = RunDirectory.unfinished(job.run_dir)
             else:
-                self.directory = RunDirectory.create(job.run_dir, force=job.force)
+                files = job.experiment.start_files()
+                self.directory = RunDirectory.create(job.run_dir, force=job.force, files=files)
         try:
             self._prepare(index, label, executor, policy, reporter)
-        except BaseException:
+        except BaseException as error:
+            if isinstance(error, Exception):
+                self.failed()
             self.close()
             raise
 
     def _prepare(
         self, index: int, label: str, executor: str, policy: CheckpointPolicy, reporter: Reporter
     ) -> None:
-        """Write the start of a new run directory, find each run's checkpoint, record the experiment."""
+        """Find each run's checkpoint, record the experiment."""
         job, settings = self.job, self.job.experiment.problem.spec.evolution
-        if self.directory is not None and not job.resume:
-            self.directory.write_start(job.experiment.start_files())
         build = job.experiment.build_files()
         for run in range(1, self.runs + 1):
             resume_from, done, folder = None, 0, None
             if self.directory is not None:
-                store = CheckpointStore(directory=self.directory.checkpoints(run), experiment=build.digest)
+                store = CheckpointStore(
+                    directory=self.directory.checkpoints(run),
+                    experiment=build.digest,
+                    shape=CheckpointShape.of(job.experiment.problem),
+                )
                 found, warnings = store.latest()
                 for warning in warnings:
                     reporter.note(warning)
@@ -168,10 +174,13 @@ class _Launched:
         self.results[run] = outcome.result
         self.documents[run] = outcome.documents
         if self.complete:
+            # In this order, so that a kill anywhere leaves a directory that resume ends.
             if self.directory is not None:
                 self.directory.finish([self.results[number] for number in range(1, self.runs + 1)])
             if recorded is not None:
                 recorded[0].finish_experiment(recorded[1], status="finished")
+            if self.directory is not None:
+                self.directory.drop_checkpoints()
 
     def close(self) -> None:
         """Release the run directory."""
@@ -183,6 +192,16 @@ class _Launched:
         recorded = self._recorded()
         if recorded is not None:
             recorded[0].finish_experiment(recorded[1], status="interrupted")
+
+    def failed(self) -> None:
+        """Record the experiment as failed (an error, not a stop); a new directory without any
+        progress to resume is deleted, so that the next try needs no ``--force``."""
+        recorded = self._recorded()
+        if recorded is not None:
+            with suppress(MazeError):  # the error being raised says more than a catalog that cannot say it
+                recorded[0].finish_experiment(recorded[1], status="failed")
+        if self.directory is not None and not self.job.resume and not self.directory.started_anything:
+            self.directory.discard()
 
     def result(self) -> ExperimentResult:
         numbers = range(1, self.runs + 1)
@@ -264,6 +283,15 @@ def launch(
             )
         with _stop_on_signals(executor, reporter):
             _collect(launched, executor, reporter)
+    except BaseException as error:
+        for item in launched:
+            if item.complete:
+                continue
+            if isinstance(error, Exception):
+                item.failed()
+            else:
+                item.stopped()
+        raise
     finally:
         for item in launched:
             item.close()
@@ -293,9 +321,6 @@ def _collect(launched: list[_Launched], executor: Executor, reporter: Reporter) 
     except BaseException:
         executor.request_stop()
         _drain(executor, take)
-        for item in launched:
-            if not item.complete:
-                item.stopped()
         raise
 
 

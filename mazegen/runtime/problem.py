@@ -51,6 +51,7 @@ def read_build_spec(build_dir: Path) -> Spec:
         ValueError,
         KeyError,
         TypeError,
+        AttributeError,  # JSON of another shape: null, a list…
     ) as error:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
         raise MazeError(
             f"damaged spec.json ({type(error).__name__}: {error})", filename=str(spec_path)
@@ -71,6 +72,10 @@ def _load_fitness(path: Path) -> ModuleType:
             filename=str(path),
             line=error.lineno,
             col=error.offset,
+        ) from None
+    except Exception as error:  # an edited module that raises as it loads
+        raise MazeError(
+            f"fitness module raised {type(error).__name__} as it loads: {error}", filename=str(path)
         ) from None
     for name in ("terms", "rejected"):
         if not callable(getattr(module, name, None)):

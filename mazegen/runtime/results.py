@@ -2,12 +2,16 @@
 
 A run directory is written as it goes, so that a killed experiment can be resumed:
 
-* at the start, ``experiment/`` (the build) and ``experiment.json``;
+* at the start, ``experiment/`` (the build), ``experiment.json`` and ``checkpoints/``, staged
+  beside and renamed into place at once: a kill leaves the whole start or nothing;
 * while runs go, ``checkpoints/run-NN/`` (see :mod:`mazegen.runtime.checkpoint`);
 * as each run finishes, ``run-NN/`` (its best scenarios and final population), whole
   or not at all;
-* at the end, ``timing.csv`` and then ``stats.csv``, which marks the directory finished;
-  then the checkpoints are deleted.
+* at the end, ``timing.csv``, then ``stats.csv``, then the catalog marks the experiment
+  finished, then the checkpoints are deleted, which marks the directory finished (a
+  directory killed before that is resumed from each run's last checkpoint and ends again);
+* a new directory whose runs fail before any progress (no checkpoint, no finished run)
+  is deleted (the catalog marks the experiment ``failed``).
 
 Every file but ``timing.csv`` (wall-clock seconds) depends only on the experiment,
 not on the executor nor on interruptions.
@@ -17,6 +21,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import glob
 import io
 import json
 import os
@@ -36,12 +41,16 @@ except ImportError:  # Windows: run directories are not locked
     fcntl = None  # type: ignore[assignment]
 
 from mazegen.errors import MazeError
-from mazegen.fileio import FOLDER_MODE, make_folder, write_atomic
+from mazegen.fileio import FOLDER_MODE, disk_errors, make_folder, write_atomic
 from mazegen.runtime.evolution import GenerationStats, RunResult
 from mazegen.runtime.render import scenario_svg
 from mazegen.runtime.scenario import dumps
 
 TIMED = "seconds"
+START = "start-"
+"""Infix of the folder a run directory's start is staged in, beside it (``.NAME.start-XXXX``)."""
+DROPPED = ".checkpoints-dropped"
+"""Where the checkpoints go, in one rename, when the directory ends."""
 STATS_COLUMNS = ("run", *(f.name for f in fields(GenerationStats) if f.name != TIMED))
 TIMING_COLUMNS = ("run", "generation", TIMED)
 
@@ -91,32 +100,60 @@ def json_text(data: Any) -> str:
 
 
 @contextlib.contextmanager
-def staged_directory(target: Path, *, force: bool) -> Iterator[Path]:
-    """Yield a temporary directory that replaces ``target`` only if the block succeeds.
+def staged_directory(target: Path, *, force: bool, kind: str = "") -> Iterator[Path]:
+    """Yield a temporary directory beside ``target`` that replaces it only if the block succeeds.
 
-    An interrupted or failed run leaves ``target`` as it was.
+    An interrupted or failed block leaves ``target`` as it was; an error naming a file of the
+    temporary directory names it as it would be in ``target``. ``kind`` marks the temporary
+    directory's name (``.NAME.KIND…``).
+
+    Raises:
+        MazeError: for a non-empty ``target`` without ``force``, or a disk that cannot be written.
     """
+    if target.exists() and not target.is_dir():
+        raise MazeError("output directory is a file", filename=str(target))
     if target.exists() and any(target.iterdir()) and not force:
         raise MazeError(
             "output directory already exists and is not empty (use --force to replace it, "
             "or -o to choose another)",
             filename=str(target),
         )
-    make_folder(target.parent)
-    stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
-    stage.chmod(FOLDER_MODE)
+    stage = _stage(target, kind)
     try:
         yield stage
+        _swap(stage, target)
+    except MazeError as error:
+        shutil.rmtree(stage, ignore_errors=True)
+        if error.filename is not None and Path(error.filename).is_relative_to(stage):
+            error.filename = str(target / Path(error.filename).relative_to(stage))
+        raise
     except BaseException:
         shutil.rmtree(stage, ignore_errors=True)
         raise
-    old = None
-    if target.exists():
-        old = target.parent / f"{stage.name}.old"
-        target.rename(old)
-    stage.rename(target)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+
+
+def _stage(target: Path, kind: str) -> Path:
+    """A new private folder beside ``target`` (``.NAME.KIND…``), to be renamed to ``target``."""
+    make_folder(target.parent)
+    with disk_errors(target, "create the folder"):
+        stage = Path(tempfile.mkdtemp(prefix=f".{target.name}.{kind}", dir=target.parent))
+        stage.chmod(FOLDER_MODE)
+    return stage
+
+
+def _swap(stage: Path, target: Path) -> None:
+    """Rename ``stage`` to ``target``; an existing ``target`` is moved aside first, then deleted."""
+    old = target.parent / f"{stage.name}.old"
+    with disk_errors(target):
+        if target.exists():
+            target.rename(old)
+        try:
+            stage.rename(target)
+        except OSError:
+            if old.exists():
+                old.rename(target)  # nothing already written is lost
+            raise
+    shutil.rmtree(old, ignore_errors=True)
 
 
 def _flock(path: Path, operation: int) -> int | None:
@@ -180,31 +217,47 @@ class RunDirectory:
         self._lock: int | None = None
 
     @classmethod
-    def create(cls, path: Path, *, force: bool) -> RunDirectory:
-        """A new, empty, locked run directory; an existing non-empty one is emptied only with ``force``.
+    def create(cls, path: Path, *, force: bool, files: dict[str, str | bytes]) -> RunDirectory:
+        """A new run directory holding ``files`` (paths relative to it), locked.
+
+        The start is staged in a folder beside ``path`` and renamed to it at once, so a kill
+        leaves either no run directory or one whose start is whole; a folder staged by a
+        killed launch is deleted here. An existing non-empty directory is replaced only
+        with ``force``.
 
         Raises:
-            MazeError: for an existing directory without ``force``, a file in the way, or a
-                directory another launch is writing.
+            MazeError: for an existing directory without ``force``, a file in the way, a
+                directory another launch is writing, or a disk that cannot be written.
         """
         if path.exists() and not path.is_dir():
             raise MazeError("output directory is a file", filename=str(path))
-        make_folder(path)
-        directory = cls(path)
-        directory.lock()
-        if any(path.iterdir()):
-            if not force:
-                directory.close()
+        existing = cls(path)
+        if path.is_dir():
+            existing.lock()
+            if any(path.iterdir()) and not force:
+                existing.close()
                 raise MazeError(
                     "output directory already exists and is not empty (use --force to replace it, "
                     "-o to choose another, or mazegen resume to continue an interrupted run)",
                     filename=str(path),
                 )
-            for child in path.iterdir():  # the folder itself stays: it carries the lock
-                if child.is_dir():
-                    shutil.rmtree(child)
-                else:
-                    child.unlink()
+        directory: RunDirectory | None = None
+        try:
+            _delete_abandoned_starts(path)
+            with staged_directory(path, force=True, kind=START) as stage:
+                directory = cls(stage)
+                directory.lock()
+                for name, data in files.items():
+                    write_atomic(stage / name, data)
+                with disk_errors(path / "checkpoints"):
+                    (stage / "checkpoints").mkdir()
+        except BaseException:
+            if directory is not None:
+                directory.close()
+            raise
+        finally:
+            existing.close()
+        directory.path = path  # the same folder, and lock, under its final name
         return directory
 
     @classmethod
@@ -217,19 +270,24 @@ class RunDirectory:
         directory = cls(path)
         directory.check_unfinished()
         directory.lock()
-        for leftover in sorted(path.rglob(".*"), reverse=True):  # temporary files and staged runs
-            if leftover.is_dir():
-                shutil.rmtree(leftover)
-            else:
-                leftover.unlink()
-        (path / "checkpoints").mkdir(exist_ok=True)  # workers check that they can see it
+        with disk_errors(path):
+            for leftover in sorted(path.rglob(".*"), reverse=True):  # temporary files and staged runs
+                if leftover.is_dir():
+                    shutil.rmtree(leftover)
+                else:
+                    leftover.unlink()
+            (path / "checkpoints").mkdir(exist_ok=True)  # workers check that they can see it
         return directory
 
     def check_unfinished(self) -> None:
-        """Raise a :class:`MazeError` unless this is a run directory that has not finished."""
+        """Raise a :class:`MazeError` unless this is a run directory that has not finished.
+
+        A finished one is first rid of checkpoints whose deletion a kill interrupted.
+        """
         if not (self.path / "experiment.json").is_file() or not (self.build / "spec.json").is_file():
             raise MazeError("not a MazeGen run directory (no experiment.json)", filename=str(self.path))
         if self.finished:
+            shutil.rmtree(self.path / DROPPED, ignore_errors=True)
             raise MazeError("this run directory is finished: nothing to resume", filename=str(self.path))
 
     def lock(self) -> None:
@@ -268,8 +326,21 @@ class RunDirectory:
 
     @property
     def finished(self) -> bool:
-        """Whether every run is written (``stats.csv`` is written last)."""
-        return (self.path / "stats.csv").is_file()
+        """Whether the directory's ending is done: ``stats.csv`` written, then the checkpoints deleted.
+
+        A directory killed in between is not finished: resuming it goes on from each run's
+        last checkpoint (its last generation) and ends it again, identically.
+        """
+        return (self.path / "stats.csv").is_file() and not (self.path / "checkpoints").exists()
+
+    @property
+    def started_anything(self) -> bool:
+        """Whether a run has saved a checkpoint or finished: what a resume would continue from."""
+        return any(self.path.glob("run-*")) or any((self.path / "checkpoints").glob("run-*/gen-*.ckpt"))
+
+    def discard(self) -> None:
+        """Delete the whole directory (a new one that failed before any run made progress)."""
+        shutil.rmtree(self.path, ignore_errors=True)
 
     def run_path(self, number: int) -> Path:
         """The folder of run ``number``'s results."""
@@ -279,21 +350,36 @@ class RunDirectory:
         """The folder of run ``number``'s checkpoints."""
         return self.path / "checkpoints" / f"run-{number:02d}"
 
-    def write_start(self, files: dict[str, str | bytes]) -> None:
-        """Write the files known before any run (paths relative to the directory)."""
-        for name, data in files.items():
-            write_atomic(self.path / name, data)
-        (self.path / "checkpoints").mkdir(exist_ok=True)
-
     def write_run(self, number: int, files: dict[str, bytes]) -> None:
         """Write run ``number``'s files (from :func:`run_files`), whole or not at all."""
         with staged_directory(self.run_path(number), force=True) as stage:
             for name, data in files.items():
-                (stage / name).write_bytes(data)  # the stage is renamed whole: no file needs its own rename
+                with disk_errors(stage / name):
+                    (stage / name).write_bytes(data)  # the stage is renamed whole: no file needs its own
 
     def finish(self, results: list[RunResult]) -> None:
-        """Write the statistics of every run (run 1 first), which marks the directory finished."""
+        """Write the statistics of every run (run 1 first); :meth:`drop_checkpoints` then ends it."""
         rows = [(number, row) for number, result in enumerate(results, start=1) for row in result.stats]
         write_atomic(self.path / "timing.csv", timing_csv(rows))
         write_atomic(self.path / "stats.csv", stats_csv(rows))
-        shutil.rmtree(self.path / "checkpoints", ignore_errors=True)
+
+    def drop_checkpoints(self) -> None:
+        """Delete the checkpoints, which marks the directory finished: one rename, then the deletion
+        of the renamed folder (a kill in between leaves it hidden, deleted by the next resume)."""
+        checkpoints, dropped = self.path / "checkpoints", self.path / DROPPED
+        if checkpoints.exists():
+            with disk_errors(checkpoints):
+                checkpoints.rename(dropped)
+        shutil.rmtree(dropped, ignore_errors=True)
+
+
+def _delete_abandoned_starts(path: Path) -> None:
+    """Delete the folders a killed launch staged for ``path``: those no process holds locked."""
+    for stage in path.parent.glob(f".{glob.escape(path.name)}.{START}*"):
+        abandoned = RunDirectory(stage)
+        try:
+            abandoned.lock()
+        except MazeError:
+            continue  # another launch is starting there now
+        shutil.rmtree(stage, ignore_errors=True)
+        abandoned.close()

@@ -184,4 +184,6 @@ def _state(run_dir: Path, spec: Spec) -> str:
             "this cell's directory holds another experiment (use --force to replace it)",
             filename=str(run_dir),
         )
-    return "finished" if (run_dir / "stats.csv").is_file() else "resume"
+    from mazegen.runtime.results import RunDirectory  # NumPy and the kernels: only once a sweep runs
+
+    return "finished" if RunDirectory(run_dir).finished else "resume"

@@ -23,7 +23,7 @@ import numba
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointStore, read_checkpoint
+from mazegen.runtime.checkpoint import CheckpointPolicy, CheckpointShape, CheckpointStore, read_checkpoint
 from mazegen.runtime.documents import best_documents
 from mazegen.runtime.evolution import GenerationStats, RunResult, RunState, evolve
 from mazegen.runtime.problem import Problem
@@ -209,7 +209,8 @@ def run_task(task: RunTask, channel: Channel) -> RunOutcome:
         checkpointer = _Checkpointer(task, settings.generations)
         resume = None
         if task.resume_from is not None:
-            resume = read_checkpoint(Path(task.resume_from), experiment=task.build.digest)
+            shape = CheckpointShape.of(problem)
+            resume = read_checkpoint(Path(task.resume_from), experiment=task.build.digest, shape=shape)
 
         def on_generation(state: RunState) -> None:
             last = state.generation == settings.generations
