@@ -15,15 +15,14 @@ IN_USE = "this run directory is in use by another mazegen process"
 
 def test_a_worker_writing_checkpoints_keeps_the_directory_in_use(tmp_path):
     path = tmp_path / "run"
-    directory = RunDirectory.create(path, force=False)
-    directory.write_start({"experiment.json": "{}"})
+    directory = RunDirectory.create(path, force=False, files={"experiment.json": "{}"})
     checkpoints = directory.checkpoints(1).parent
     # A worker of the launch that holds the directory takes its share without waiting.
     with writing_checkpoints(checkpoints), pytest.raises(MazeError, match=IN_USE):
-        RunDirectory.create(path, force=True)
+        RunDirectory.create(path, force=True, files={})
     directory.close()  # the launcher is gone (killed outright), one of its workers not yet
     with writing_checkpoints(checkpoints), pytest.raises(MazeError, match=IN_USE):
-        RunDirectory.create(path, force=True)
+        RunDirectory.create(path, force=True, files={})
     assert (path / "experiment.json").is_file()  # nothing replaced
-    RunDirectory.create(path, force=True).close()  # free once the worker is gone too
+    RunDirectory.create(path, force=True, files={}).close()  # free once the worker is gone too
     assert not (path / "experiment.json").exists()
