@@ -33,12 +33,12 @@ from common import BENCHMARKS, ROOT, markdown_table, median_seconds, peak_rss_mb
 
 import mazegen
 from mazegen.generator.build import build
-from mazegen.runtime import evolution, metrics
-from mazegen.runtime.cache import EvaluationCache, genome_hashes
-from mazegen.runtime.mapping import PopulationMap, map_population
-from mazegen.runtime.operators import random_codons, random_genes
-from mazegen.runtime.population import Population, placement_params
-from mazegen.runtime.problem import Problem, Workspace
+from mazegen.runtime.engine import evolution, metrics
+from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
+from mazegen.runtime.engine.mapping import PopulationMap, map_population
+from mazegen.runtime.engine.operators import random_codons, random_genes
+from mazegen.runtime.engine.population import Population, placement_params
+from mazegen.runtime.engine.problem import Problem, Workspace
 from mazegen.spec import FitnessTerm
 
 EXP8 = ROOT / "examples" / "table1" / "exp8.maze"

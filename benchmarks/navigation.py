@@ -45,12 +45,12 @@ from kernels import EVOLVED_GENERATIONS, Sample, evolved_sample
 
 import mazegen
 from mazegen.runtime import metrics
-from mazegen.runtime.connectivity import reach
-from mazegen.runtime.cspace import grid_of
-from mazegen.runtime.difficulty import survey
-from mazegen.runtime.navigation import navigate
-from mazegen.runtime.population import Population
-from mazegen.runtime.problem import Problem, Workspace
+from mazegen.runtime.engine.population import Population
+from mazegen.runtime.engine.problem import Problem, Workspace
+from mazegen.runtime.geometry.cspace import grid_of
+from mazegen.runtime.navigation.connectivity import reach
+from mazegen.runtime.navigation.difficulty import survey
+from mazegen.runtime.navigation.paths import navigate
 
 SPECS = {
     "factory": ROOT / "examples" / "factory.maze",

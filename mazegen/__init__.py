@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from typing import Any
 
-__version__ = "0.1.0"
+from mazegen.version import __version__ as __version__  # the package states its version
+
 __all__ = ["build", "load", "run"]
 
 

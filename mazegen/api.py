@@ -21,10 +21,10 @@ from mazegen.generator.build import build as build_files
 from mazegen.spec import Spec
 
 if TYPE_CHECKING:
-    from mazegen.runtime.executors import Executor
-    from mazegen.runtime.experiment import Experiment
-    from mazegen.runtime.launcher import ExperimentResult
-    from mazegen.runtime.progress import Reporter
+    from mazegen.runtime.runs.executors import Executor
+    from mazegen.runtime.runs.experiment import Experiment
+    from mazegen.runtime.runs.launcher import ExperimentResult
+    from mazegen.runtime.runs.progress import Reporter
 
 
 def load(path: str | os.PathLike[str]) -> Spec:
@@ -78,7 +78,7 @@ def run(
         force: Replace an existing ``out_dir``.
         reporter: Progress display.
         executor: ``serial`` (this process, the default here), ``local`` (worker processes),
-            ``dask`` (with ``scheduler``), or an :class:`~mazegen.runtime.executors.Executor`.
+            ``dask`` (with ``scheduler``), or an :class:`~mazegen.runtime.runs.executors.Executor`.
         workers: Local worker processes (default: the cores).
         scheduler: The Dask scheduler's address, ``tcp://HOST:PORT``.
         checkpoint_every: Checkpoint every this many generations (0: never; default: every 30 s).
@@ -86,8 +86,8 @@ def run(
         keep_populations: Return each run's final population; without, the result holds each
             run's statistics and best documents (the populations are in ``out_dir``).
     """
-    from mazegen.runtime.experiment import Experiment
-    from mazegen.runtime.launcher import Job, run_jobs
+    from mazegen.runtime.runs.experiment import Experiment
+    from mazegen.runtime.runs.launcher import Job, run_jobs
 
     def _run(build_dir: Path) -> ExperimentResult:
         experiment = Experiment.from_build_dir(build_dir).with_settings(
@@ -133,7 +133,7 @@ def resume(
         MazeError: for a folder that is not a run directory, a finished one, or a run whose
             checkpoints are all damaged.
     """
-    from mazegen.runtime.launcher import Job, run_jobs
+    from mazegen.runtime.runs.launcher import Job, run_jobs
 
     with tempfile.TemporaryDirectory(prefix="mazegen-resume-") as temp:
         job = Job(_resumable(Path(run_dir), Path(temp) / "build"), Path(run_dir), resume=True)
@@ -180,9 +180,9 @@ def sweep(
         MazeError: for an unknown setting, a value out of bounds, or a cell directory that
             holds another experiment (without ``force``).
     """
-    from mazegen.runtime.experiment import Experiment
-    from mazegen.runtime.launcher import Job, run_jobs
-    from mazegen.runtime.sweep import Axis, plan_cells
+    from mazegen.runtime.campaigns.sweep import Axis, plan_cells
+    from mazegen.runtime.runs.experiment import Experiment
+    from mazegen.runtime.runs.launcher import Job, run_jobs
 
     axes = [Axis.parse(f"{name}={','.join(map(str, values))}") for name, values in settings.items()]
     resolved = [spec if isinstance(spec, Spec) else load_spec(spec) for spec in specs]
@@ -222,6 +222,6 @@ def _resumable(run_dir: Path, build: Path) -> Experiment:
     Raises:
         MazeError: for a folder that is not a run directory, a finished or damaged one.
     """
-    from mazegen.runtime.resumable import resumable_experiment
+    from mazegen.runtime.runs.resumable import resumable_experiment
 
     return resumable_experiment(run_dir, copy_to=build)

@@ -11,8 +11,8 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 if TYPE_CHECKING:
-    from mazegen.runtime.problem import Problem
-    from mazegen.runtime.progress import Reporter
+    from mazegen.runtime.engine.problem import Problem
+    from mazegen.runtime.runs.progress import Reporter
     from mazegen.spec import Spec
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -77,9 +77,9 @@ def compile_first(source: Spec | Path | Problem, executor: str, reporter: Report
 
     if executor == "dask" or kernels_cached():
         return
-    from mazegen.runtime.problem import Problem
-    from mazegen.runtime.progress import FIRST_COMPILE_NOTE
-    from mazegen.runtime.warmup import compile_kernels
+    from mazegen.runtime.engine.problem import Problem
+    from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
+    from mazegen.runtime.runs.warmup import compile_kernels
 
     reporter.note(FIRST_COMPILE_NOTE)
     if isinstance(source, Problem):
@@ -96,7 +96,7 @@ def compile_first(source: Spec | Path | Problem, executor: str, reporter: Report
 
 def reports_interruption(command: F) -> F:
     """Wrap a command so that Ctrl-C ends it with one line saying how to continue, and status 130."""
-    from mazegen.runtime.launcher import RunsInterrupted
+    from mazegen.runtime.runs.launcher import RunsInterrupted
 
     @functools.wraps(command)
     def wrapper(*args: Any, **kwargs: Any) -> Any:

@@ -10,7 +10,7 @@ import importlib
 
 import click
 
-from mazegen import __version__
+from mazegen.version import __version__
 
 COMMANDS = {
     "check": "check",

@@ -64,8 +64,8 @@ def map_command(
 
     GRAMMAR is a BNF file, or a spec (.maze) whose grammar is built on the fly.
     """
-    from mazegen.runtime.bnf import parse_bnf, read_bnf
-    from mazegen.runtime.mapping import map_genome
+    from mazegen.runtime.engine.bnf import parse_bnf, read_bnf
+    from mazegen.runtime.engine.mapping import map_genome
 
     settings = Evolution()  # a bare grammar maps with the defaults
     if grammar.suffix == ".maze":

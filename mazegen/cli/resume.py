@@ -24,8 +24,8 @@ def resume(run_dir: Path, quiet: bool, **options: Any) -> None:
     """
     from mazegen import api
     from mazegen.errors import MazeError
-    from mazegen.runtime.experiment import NO_SCENARIO, closing_lines, summary_lines
-    from mazegen.runtime.progress import reporter_for
+    from mazegen.runtime.runs.command_line import NO_SCENARIO, closing_lines, summary_lines
+    from mazegen.runtime.runs.progress import reporter_for
 
     reporter = reporter_for(quiet=quiet)
     try:

@@ -18,7 +18,7 @@ from mazegen.cli.errors import reports_errors
 from mazegen.errors import MazeError
 
 if TYPE_CHECKING:
-    from mazegen.runtime.scoring import Scored
+    from mazegen.runtime.documents.scoring import Scored
 
 
 @click.command()
@@ -38,8 +38,8 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool) -> None:
     """
     from mazegen.dsl.loader import load_spec
     from mazegen.runtime import SCORE_KERNELS
-    from mazegen.runtime.progress import QuietReporter, note_first_compile
-    from mazegen.runtime.scoring import Scorer
+    from mazegen.runtime.documents.scoring import Scorer
+    from mazegen.runtime.runs.progress import QuietReporter, note_first_compile
 
     resolved = load_spec(spec)
     files = scenario_files(scenarios)
@@ -95,7 +95,7 @@ def scenario_files(paths: tuple[Path, ...]) -> list[Path]:
 
 def _may_be_scenario(path: Path) -> bool:
     """False for JSON files of another format; a file that cannot be read stays, to be reported."""
-    from mazegen.runtime.scenario import FORMAT
+    from mazegen.runtime.documents.scenario import FORMAT
 
     try:
         document = json.loads(path.read_text(encoding="utf-8"))

@@ -46,9 +46,9 @@ def suite(
 
     from mazegen.dsl.loader import load_spec
     from mazegen.generator.build import build
-    from mazegen.runtime.problem import Problem
-    from mazegen.runtime.progress import reporter_for
-    from mazegen.runtime.suite import fill_archive, suite_documents, write_suite
+    from mazegen.runtime.campaigns.suite import fill_archive, suite_documents, write_suite
+    from mazegen.runtime.engine.problem import Problem
+    from mazegen.runtime.runs.progress import reporter_for
 
     resolved = load_spec(spec)
     settings = resolved.evolution

@@ -49,8 +49,8 @@ def sweep(
     are skipped and interrupted ones resumed.
     """
     from mazegen import api
-    from mazegen.runtime.progress import reporter_for
-    from mazegen.runtime.sweep import Axis
+    from mazegen.runtime.campaigns.sweep import Axis
+    from mazegen.runtime.runs.progress import reporter_for
 
     parsed = [Axis.parse(text) for text in axes]
     resolved = [api.load(path) for path in specs]

@@ -1,22 +1,16 @@
-"""Registration of the ``maze`` language with textX and access to its metamodel."""
+"""Registration of the ``maze`` language with textX."""
 
 from __future__ import annotations
 
-from pathlib import Path
+from textx import LanguageDesc
 
-from textx import LanguageDesc, metamodel_for_language, metamodel_from_file
-from textx.exceptions import TextXRegistrationError
-
-GRAMMAR_FILE = Path(__file__).with_name("maze.tx")
+from mazegen.dsl.metamodel import grammar_metamodel
+from mazegen.dsl.textx_check import check_model
 
 
 def build_metamodel():
-    """Build the textX metamodel of the ``.maze`` language."""
-    metamodel = metamodel_from_file(str(GRAMMAR_FILE), autokwd=True)
-    metamodel.register_obj_processors({"Number": float, "Integer": int})
-    # Deferred import: the checker converts whole specs, which needs this module.
-    from mazegen.dsl.textx_check import check_model
-
+    """Build the textX metamodel of the ``.maze`` language, with MazeGen's semantic checks."""
+    metamodel = grammar_metamodel()
     metamodel.register_model_processor(check_model)
     return metamodel
 
@@ -27,20 +21,3 @@ maze_language = LanguageDesc(
     description="MazeGen scenario specifications",
     metamodel=build_metamodel,
 )
-
-
-def metamodel():
-    """Return the registered ``maze`` metamodel (built directly if not installed)."""
-    try:
-        return metamodel_for_language("maze")
-    except TextXRegistrationError:
-        return _fallback_metamodel()
-
-
-_FALLBACK: list = []
-
-
-def _fallback_metamodel():
-    if not _FALLBACK:
-        _FALLBACK.append(build_metamodel())
-    return _FALLBACK[0]

@@ -14,8 +14,8 @@ from textx.exceptions import TextXSemanticError, TextXSyntaxError
 
 from mazegen.dsl.blocks import convert_arena, convert_evolution, convert_fitness, convert_scenario
 from mazegen.dsl.elements import convert_element
-from mazegen.dsl.language import metamodel
 from mazegen.dsl.located import display_path, fail, suggestion, where
+from mazegen.dsl.metamodel import metamodel
 from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text

@@ -6,13 +6,12 @@ from typing import Any
 
 from textx.exceptions import TextXSemanticError
 
+from mazegen.dsl import loader
 from mazegen.errors import MazeError
 
 
 def check_model(model: Any, _metamodel: Any) -> None:
     """Run MazeGen's semantic checks on a model parsed by textX itself."""
-    from mazegen.dsl import loader  # loader imports the language module, which imports this one
-
     if loader.loading.get():
         return
     try:

@@ -7,10 +7,10 @@ from pathlib import Path
 
 from jinja2 import Environment, PackageLoader, StrictUndefined
 
-from mazegen import __version__
 from mazegen.fileio import write_atomic
 from mazegen.generator.grammar import scenario_rules
 from mazegen.spec import REWARDS, FitnessTerm, Spec
+from mazegen.version import __version__
 
 ARTIFACTS = ("grammar.bnf", "fitness.py", "experiment.py", "spec.json")
 

@@ -9,8 +9,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from mazegen.runtime import overlap
-from mazegen.runtime.population import SX, SY, Population
+from mazegen.runtime.engine.population import SX, SY, Population
+from mazegen.runtime.geometry import overlap
+from mazegen.runtime.navigation.measures import navigation_of, reach_of, survey_of
 
 
 def element_count(pop: Population) -> np.ndarray:
@@ -49,33 +50,33 @@ def elements_outside(pop: Population) -> np.ndarray:
 
 def unsolvable(pop: Population) -> np.ndarray:
     """1 where a valid scenario has no path from start to goal for the robot, else 0."""
-    return (pop.valid & ~pop.reach.solvable).astype(np.float64)
+    return (pop.valid & ~reach_of(pop).solvable).astype(np.float64)
 
 
 def path_length(pop: Population) -> np.ndarray:
     """Length of the robot's path from start to goal in arena units, NaN when there is none."""
-    return pop.navigation.path_length
+    return navigation_of(pop).path_length
 
 
 def tortuosity(pop: Population) -> np.ndarray:
     """Path length over the straight-line distance from start to goal (1 = straight), NaN when unsolvable."""
-    nav = pop.navigation
+    nav = navigation_of(pop)
     return nav.path_length / nav.straight
 
 
 def difficulty(pop: Population) -> np.ndarray:
     """Difficulty score, 0 (open) to 100 (hard), NaN when unsolvable (see :mod:`difficulty`)."""
-    return pop.survey.difficulty
+    return survey_of(pop).difficulty
 
 
 def path_metric(pop: Population, name: str) -> np.ndarray:
     """One difficulty metric of the robot's path (``tortuosity``, ``clearance``…), NaN when unsolvable."""
-    return pop.survey.metric(name)
+    return survey_of(pop).metric(name)
 
 
 def coverage(pop: Population) -> np.ndarray:
     """Fraction of the arena's grid cells the elements occupy."""
-    return pop.reach.coverage
+    return reach_of(pop).coverage
 
 
 def closeness(values: np.ndarray, low: float, high: float) -> np.ndarray:

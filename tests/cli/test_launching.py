@@ -2,19 +2,22 @@
 
 from __future__ import annotations
 
+from tests.runtime.test_progress import Notes
+
 import mazegen
 import mazegen.runtime
-import mazegen.runtime.warmup
+import mazegen.runtime.runs.warmup
 from mazegen.cli.launching import compile_first
-from mazegen.runtime.problem import Problem
-from mazegen.runtime.progress import FIRST_COMPILE_NOTE
+from mazegen.runtime.engine.problem import Problem
+from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
 from tests.conftest import EXAMPLES
-from tests.runtime.test_progress import Notes
 
 
 def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
     compiled = []
-    monkeypatch.setattr(mazegen.runtime.warmup, "compile_kernels", lambda problem: compiled.append(problem))
+    monkeypatch.setattr(
+        mazegen.runtime.runs.warmup, "compile_kernels", lambda problem: compiled.append(problem)
+    )
     spec = mazegen.load(EXAMPLES / "factory.maze")
     mazegen.build(spec, tmp_path / "build")
     problem = Problem.from_build_dir(tmp_path / "build")

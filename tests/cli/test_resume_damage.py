@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mazegen.runtime.checkpoint import RunState, checkpoint_bytes, read_checkpoint
-from mazegen.runtime.results import RunDirectory
+from mazegen.runtime.runs.checkpoint import RunState, checkpoint_bytes, read_checkpoint
+from mazegen.runtime.runs.results import RunDirectory
 from tests.runtime.rundirs import Killed, file_digests, invoke, small_run
 
 

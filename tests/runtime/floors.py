@@ -14,8 +14,8 @@ import shapely
 from shapely.geometry import Polygon, box
 
 import mazegen
-from mazegen.runtime.geometry import ElementTable
-from mazegen.runtime.population import Population
+from mazegen.runtime.engine.population import Population
+from mazegen.runtime.geometry.elements import ElementTable
 from mazegen.spec import Arena
 from tests.conftest import EXAMPLES
 

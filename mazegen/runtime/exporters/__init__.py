@@ -10,12 +10,14 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from mazegen.runtime.documents.scenario import dumps
 from mazegen.runtime.exporters.floor import ExportOptions, Floor
 from mazegen.runtime.exporters.gazebo import gazebo_files
 from mazegen.runtime.exporters.movingai import movingai_files
 from mazegen.runtime.exporters.ros import ros_files
-from mazegen.runtime.render import scenario_png, scenario_svg
-from mazegen.runtime.scenario import dumps
+from mazegen.runtime.reports.render import scenario_png, scenario_svg
+
+__all__ = ["FORMATS", "ExportOptions", "Files", "Floor"]
 
 Files = dict[str, bytes]
 """Exported files: name (``best-01.pgm``) to content."""

@@ -18,11 +18,7 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.runtime.cspace import Grid, free_cells, grid_of, point_grid_of
-from mazegen.runtime.geometry import ElementTable
-from mazegen.runtime.population import Population
-from mazegen.runtime.problem import read_build_spec
-from mazegen.runtime.scenario import (
+from mazegen.runtime.documents.scenario import (
     arena_document,
     check_complete,
     completed_document,
@@ -30,6 +26,11 @@ from mazegen.runtime.scenario import (
     population_from_document,
     read_document,
 )
+from mazegen.runtime.engine.population import Population
+from mazegen.runtime.engine.problem import read_build_spec
+from mazegen.runtime.geometry.cspace import Grid, grid_of, point_grid_of
+from mazegen.runtime.geometry.elements import ElementTable
+from mazegen.runtime.navigation.paths import free_cells
 from mazegen.spec import Spec
 
 METRES_PER_UNIT = {"mm": 0.001, "cm": 0.01, "m": 1.0, "px": 0.01}

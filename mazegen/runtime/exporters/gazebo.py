@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from mazegen.runtime.exporters.floor import ExportOptions, Floor, safe_name
-from mazegen.runtime.render import rgb
+from mazegen.runtime.reports.render import rgb
 
 SDF_VERSION = "1.6"
 WALL_THICKNESS = 0.1

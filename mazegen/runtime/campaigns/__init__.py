@@ -1,0 +1,9 @@
+"""Many runs at once: sweeps over settings, and suites that fill a MAP-Elites archive.
+
+See ``docs/architecture.md`` for where this sits among the runtime's rooms.
+"""
+
+from mazegen.runtime.campaigns.suite import fill_archive, write_suite
+from mazegen.runtime.campaigns.sweep import plan_cells
+
+__all__ = ["fill_archive", "plan_cells", "write_suite"]

@@ -1,0 +1,189 @@
+"""Sweeps: a grid of settings over specs, each cell an experiment of several runs.
+
+A sweep names values for some settings (``population=1000,5000``, ``seed=1..3``,
+``fitness.overlap=0.25,0.5``); every combination, for every spec, is a cell with its
+own run directory named from its settings, and all cells share one catalog.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from mazegen.errors import MazeError
+from mazegen.spec import EVOLUTION_BOUNDS, Evolution, Spec
+
+Value = int | float
+
+
+@dataclass(frozen=True)
+class _Setting:
+    kind: Callable[[str], Value]
+    check: Callable[[Value], bool]
+    bounds: str
+
+
+_SETTINGS = {
+    name: _Setting(type(getattr(Evolution(), name)), *bounds)
+    for name, bounds in EVOLUTION_BOUNDS.items()
+    if name != "codon_max"  # the codons' range is the grammar's, not a setting to sweep
+}
+"""Evolution settings a sweep may vary, with their bounds (those of the evolution block)."""
+
+FITNESS = "fitness."
+"""Prefix of a fitness term's weight: ``fitness.overlap`` is the overlap penalty's weight."""
+
+_WEIGHT = _Setting(float, lambda v: v >= 0, "at least 0")
+_RANGE = re.compile(r"(-?\d+)\.\.(-?\d+)")
+_NAME = re.compile(r"[^A-Za-z0-9_.]+")
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One swept setting and its values, in the order given."""
+
+    name: str
+    values: tuple[Value, ...]
+
+    @classmethod
+    def parse(cls, text: str) -> Axis:
+        """Read ``NAME=VALUES``: values separated by commas, integers also as ``LOW..HIGH``.
+
+        Raises:
+            MazeError: for an unknown setting, a bad value or one out of bounds.
+        """
+        name, equals, raw = text.partition("=")
+        name = name.strip()
+        if not equals or not raw.strip():
+            raise MazeError(f"cannot read --set '{text}' (write NAME=VALUES, e.g. population=500,1000)")
+        setting = _WEIGHT if name.startswith(FITNESS) and len(name) > len(FITNESS) else _SETTINGS.get(name)
+        if setting is None:
+            known = ", ".join([*_SETTINGS, f"{FITNESS}TERM"])
+            raise MazeError(f"cannot sweep '{name}' (known: {known})")
+        values: list[Value] = []
+        for part in raw.split(","):
+            part = part.strip()
+            span = _RANGE.fullmatch(part)
+            try:
+                if span is not None and setting.kind is int:
+                    values += range(int(span[1]), int(span[2]) + 1)
+                else:
+                    values.append(setting.kind(part))
+            except ValueError:
+                raise MazeError(f"--set {name}: '{part}' is not a valid value") from None
+        for value in values:
+            if not setting.check(value):
+                raise MazeError(f"--set {name}: {value} must be {setting.bounds}")
+        if not values:
+            raise MazeError(f"--set {name}: empty range '{raw}'")
+        if len(set(values)) != len(values):
+            raise MazeError(f"--set {name}: a value is given twice")
+        return cls(name, tuple(values))
+
+
+def grid(axes: list[Axis]) -> list[dict[str, Value]]:
+    """Every combination of the axes' values, the first axis varying slowest.
+
+    Raises:
+        MazeError: when a setting is swept twice.
+    """
+    names = [axis.name for axis in axes]
+    if len(set(names)) != len(names):
+        raise MazeError("a setting is swept twice (give all its values in one --set)")
+    return [dict(zip(names, values)) for values in itertools.product(*(axis.values for axis in axes))]
+
+
+def apply_cell(spec: Spec, cell: dict[str, Value]) -> Spec:
+    """``spec`` with a cell's settings applied.
+
+    Raises:
+        MazeError: for a fitness term the spec lacks, or settings that contradict each other.
+    """
+    evolution: dict[str, Any] = {}
+    fitness = list(spec.fitness)
+    for name, value in cell.items():
+        if name.startswith(FITNESS):
+            key = name[len(FITNESS) :]
+            matches = [i for i, term in enumerate(fitness) if term.key == key]
+            if not matches:
+                known = ", ".join(term.key for term in spec.fitness)
+                raise MazeError(f"spec '{spec.name}' has no fitness term '{key}' (its terms: {known})")
+            for index in matches:
+                fitness[index] = dataclasses.replace(fitness[index], weight=float(value))
+        elif name in ("tournament", "truncation"):
+            evolution.update(selection=name, **{name: value})
+        else:
+            evolution[name] = value
+    swept = dataclasses.replace(spec, fitness=tuple(fitness)).with_evolution(**evolution)
+    settings = swept.evolution
+    if settings.elitism >= settings.population:
+        if "elitism" in cell:
+            raise MazeError(f"{cell_name(spec.name, cell)}: elitism must be below the population")
+        swept = swept.with_evolution(elitism=settings.population - 1)  # as mazegen run --population does
+    if settings.selection == "tournament" and settings.tournament > settings.population:
+        raise MazeError(f"{cell_name(spec.name, cell)}: tournament is larger than the population")
+    return swept
+
+
+def cell_name(scenario: str, cell: dict[str, Value]) -> str:
+    """A cell's run directory name: the scenario, then each swept setting and its value."""
+    parts = [scenario]
+    for name, value in cell.items():
+        text = f"{value:g}" if isinstance(value, float) else str(value)
+        parts.append(_NAME.sub("_", name.removeprefix(FITNESS) + text))
+    return "-".join(parts)
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One cell of a sweep: its spec (settings applied), where it is written, and how far it got.
+
+    Attributes:
+        spec: The spec with the cell's settings.
+        settings: The swept settings' values.
+        run_dir: The cell's run directory.
+        state: ``new`` (to run), ``resume`` (interrupted earlier) or ``finished`` (skipped).
+    """
+
+    spec: Spec
+    settings: dict[str, Value]
+    run_dir: Path
+    state: str
+
+
+def plan_cells(specs: list[Spec], axes: list[Axis], out_dir: Path, *, force: bool) -> list[Cell]:
+    """The cells of a sweep, each with its state in ``out_dir``.
+
+    Raises:
+        MazeError: for two cells with one name, or a cell directory that holds another
+            experiment (without ``force``).
+    """
+    cells = []
+    for spec in specs:
+        for settings in grid(axes):
+            swept = apply_cell(spec, settings)
+            run_dir = out_dir / cell_name(spec.name, settings)
+            cells.append(Cell(swept, settings, run_dir, "new" if force else _state(run_dir, swept)))
+    names = [cell.run_dir.name for cell in cells]
+    if len(set(names)) != len(names):
+        raise MazeError("two cells share a name: give specs whose scenarios have different names")
+    return cells
+
+
+def _state(run_dir: Path, spec: Spec) -> str:
+    if not run_dir.is_dir() or not any(run_dir.iterdir()):
+        return "new"
+    written = run_dir / "experiment" / "spec.json"
+    if not written.is_file() or written.read_text(encoding="utf-8") != spec.to_json():
+        raise MazeError(
+            "this cell's directory holds another experiment (use --force to replace it)",
+            filename=str(run_dir),
+        )
+    from mazegen.runtime.runs.results import RunDirectory  # NumPy and the kernels: only once a sweep runs
+
+    return "finished" if RunDirectory(run_dir).finished else "resume"

@@ -1,0 +1,26 @@
+"""Scenario documents, MazeGen's output: made from a population and read back, their
+validation rules, the best distinct scenarios of a run, and scoring documents under a spec.
+
+See ``docs/architecture.md`` for where this sits among the runtime's rooms.
+"""
+
+from mazegen.runtime.documents.best import best_documents
+from mazegen.runtime.documents.scenario import (
+    dumps,
+    population_from_document,
+    read_document,
+    scenario_document,
+)
+from mazegen.runtime.documents.scenario_rules import check_document
+from mazegen.runtime.documents.scoring import Scored, Scorer
+
+__all__ = [
+    "Scored",
+    "Scorer",
+    "best_documents",
+    "check_document",
+    "dumps",
+    "population_from_document",
+    "read_document",
+    "scenario_document",
+]

@@ -1,0 +1,217 @@
+"""The evolution loop of one run: evaluate, record statistics, breed; the population size stays constant."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from time import perf_counter
+from typing import Any
+
+import numpy as np
+
+from mazegen.runtime.engine import operators as ops
+from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
+from mazegen.runtime.engine.problem import Problem, Workspace
+from mazegen.runtime.engine.threads import threads_for
+from mazegen.spec import Evolution
+
+EVALUATION_CHUNK = 8192
+"""Genomes evaluated per call: bounds the memory of the mapping and placement arrays
+(which grow with the element slots) whatever the population, and keeps them in cache."""
+
+
+@dataclass(frozen=True)
+class GenerationStats:
+    """Statistics of one generation. Best, mean and median cover valid individuals only.
+
+    ``seconds`` is the wall-clock time to breed and evaluate the generation; it goes to
+    ``timing.csv``, the other fields to ``stats.csv``.
+    """
+
+    generation: int
+    evaluations: int
+    best: float
+    mean: float
+    median: float
+    invalid: int
+    unique: int
+    cache_hits: int
+    seconds: float
+
+
+@dataclass(frozen=True)
+class RunState:
+    """Where a run stands once generation ``generation`` is evaluated: what a checkpoint holds.
+
+    Attributes:
+        generation: The last generation evaluated (0 is the random population).
+        codons: That generation's structure codons.
+        genes: That generation's placement genes.
+        fitness: That generation's fitness.
+        rng_state: The run's bit-generator state, from which the next generation is bred.
+        stats: Statistics of generations 0 .. ``generation``.
+    """
+
+    generation: int
+    codons: np.ndarray
+    genes: np.ndarray
+    fitness: np.ndarray
+    rng_state: Mapping[str, Any]
+    stats: tuple[GenerationStats, ...]
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """The final population of a run and its per-generation statistics."""
+
+    codons: np.ndarray
+    genes: np.ndarray
+    fitness: np.ndarray
+    stats: tuple[GenerationStats, ...]
+
+
+def evaluate_cached(
+    problem: Problem,
+    codons: np.ndarray,
+    genes: np.ndarray,
+    cache: EvaluationCache,
+    workspace: Workspace | None = None,
+) -> tuple[np.ndarray, int, int]:
+    """Fitness of a generation, evaluating each distinct unseen genome once (into ``workspace``).
+
+    Returns:
+        fitness per individual, number of genomes evaluated, number of distinct genomes.
+    """
+    lookup = cache.lookup(genome_hashes(codons, genes))
+    fitness = lookup.fitness
+    for start in range(0, lookup.todo.size, EVALUATION_CHUNK):
+        rows = lookup.todo[start : start + EVALUATION_CHUNK]
+        fitness[rows] = problem.evaluate(codons[rows], genes[rows], workspace).fitness
+    fitness = fitness[lookup.first]
+    cache.remember(lookup, fitness)
+    return fitness, int(lookup.todo.size), lookup.distinct
+
+
+def breed(
+    rng: np.random.Generator,
+    codons: np.ndarray,
+    genes: np.ndarray,
+    fitness: np.ndarray,
+    settings: Evolution,
+    out: tuple[np.ndarray, np.ndarray],
+) -> None:
+    """Write the next generation into ``out``: elites unchanged, then selected, crossed and mutated children.
+
+    Args:
+        rng: The run's random generator.
+        codons: This generation's structure codons.
+        genes: This generation's placement genes.
+        fitness: This generation's fitness.
+        settings: Selection, crossover and mutation settings.
+        out: Codon and gene arrays shaped like ``codons`` and ``genes``, overwritten.
+    """
+    out_codons, out_genes = out
+    elites = ops.ranking(fitness, settings.elitism)
+    count = fitness.shape[0] - elites.size
+    if settings.selection == "tournament":
+        parents = ops.tournament_parents(rng, fitness, settings.tournament, count)
+    else:
+        parents = ops.truncation_parents(rng, fitness, settings.truncation, count)
+    length, slots = codons.shape[1], genes.shape[1]
+    crossover = ops.crossover_draws(rng, count, length, slots, settings.crossover)
+    mutation = ops.mutation_draws(rng, count, length, slots, settings.mutation, settings.codon_max)
+    out_codons[: elites.size] = codons[elites]
+    out_genes[: elites.size] = genes[elites]
+    ops.make_children(
+        codons, genes, parents, crossover, mutation, out_codons[elites.size :], out_genes[elites.size :]
+    )
+
+
+def generation_stats(
+    generation: int, fitness: np.ndarray, evaluations: int, unique: int, seconds: float
+) -> GenerationStats:
+    """Statistics of one generation's fitness (valid individuals only) and evaluation counts."""
+    valid = fitness[np.isfinite(fitness)]
+    best, mean, median = (
+        (float(valid.max()), float(valid.mean()), float(np.median(valid)))
+        if valid.size
+        else (float("nan"),) * 3
+    )
+    return GenerationStats(
+        generation,
+        evaluations,
+        best,
+        mean,
+        median,
+        int(fitness.size - valid.size),
+        unique,
+        int(fitness.size - evaluations),
+        seconds,
+    )
+
+
+def primed_cache(codons: np.ndarray, genes: np.ndarray, fitness: np.ndarray) -> EvaluationCache:
+    """The evaluation cache as it stands after evaluating a generation.
+
+    The cache holds only the last generation: its table depends on that generation's
+    genome hashes alone, so a resumed run rebuilt this way counts the same evaluations
+    and cache hits as one that never stopped.
+    """
+    cache = EvaluationCache()
+    cache.remember(cache.lookup(genome_hashes(codons, genes)), fitness)
+    return cache
+
+
+def evolve(
+    problem: Problem,
+    settings: Evolution,
+    rng: np.random.Generator,
+    *,
+    resume: RunState | None = None,
+    on_generation: Callable[[RunState], None] | None = None,
+) -> RunResult:
+    """Run one evolution from a random population, or on from a saved state.
+
+    Args:
+        problem: The experiment to evaluate genomes with.
+        settings: Population size, generations, operators and rates.
+        rng: The run's only source of randomness; a resumed run restores its state.
+        resume: Where an earlier, interrupted evolution stood (from a checkpoint).
+        on_generation: Called with the state after each generation is evaluated, before
+            the next is bred (progress, checkpoints). Its arrays are valid during the call
+            only; an exception it raises stops the run.
+    """
+    with threads_for(settings.population):
+        return _evolve(problem, settings, rng, resume, on_generation or (lambda state: None))
+
+
+def _evolve(
+    problem: Problem,
+    settings: Evolution,
+    rng: np.random.Generator,
+    resume: RunState | None,
+    on_generation: Callable[[RunState], None],
+) -> RunResult:
+    workspace = Workspace()
+    started = perf_counter()
+    if resume is None:
+        codons = ops.random_codons(rng, settings.population, settings.genome, settings.codon_max)
+        genes = ops.random_genes(rng, settings.population, problem.slots)
+        cache = EvaluationCache()
+        fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache, workspace)
+        stats = [generation_stats(0, fitness, evaluations, unique, perf_counter() - started)]
+        on_generation(RunState(0, codons, genes, fitness, rng.bit_generator.state, tuple(stats)))
+    else:
+        rng.bit_generator.state = resume.rng_state
+        codons, genes, fitness = resume.codons.copy(), resume.genes.copy(), resume.fitness.copy()
+        cache = primed_cache(codons, genes, fitness)
+        stats = list(resume.stats)
+    spare = (np.empty_like(codons), np.empty_like(genes))  # the next generation is bred into these
+    for generation in range(len(stats), settings.generations + 1):
+        started = perf_counter()
+        breed(rng, codons, genes, fitness, settings, spare)
+        spare, (codons, genes) = (codons, genes), spare
+        fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache, workspace)
+        stats.append(generation_stats(generation, fitness, evaluations, unique, perf_counter() - started))
+        on_generation(RunState(generation, codons, genes, fitness, rng.bit_generator.state, tuple(stats)))
+    return RunResult(codons, genes, fitness, tuple(stats))

@@ -1,0 +1,242 @@
+"""A built experiment loaded for evaluation: spec, grammar, fitness module and tables."""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from mazegen.errors import MazeError
+from mazegen.runtime.engine.bnf import Grammar, read_bnf
+from mazegen.runtime.engine.compiled_grammar import CompiledGrammar, compile_grammar
+from mazegen.runtime.engine.mapping import NUMBERS_PER_ELEMENT, PopulationMap, map_population
+from mazegen.runtime.engine.population import PLACEMENT_GENES, Population, Ranges, decode
+from mazegen.runtime.geometry.elements import ElementTable
+from mazegen.spec import Spec
+
+INVALID = -np.inf
+"""Fitness of individuals that map to no scenario or that the spec rejects."""
+
+REJECTED = "rejected"
+"""The one verdict of :meth:`Problem.rejections` for a fitness module that does not tell its
+reject terms apart."""
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Fitness of a population and what it was computed from."""
+
+    fitness: np.ndarray
+    terms: dict[str, np.ndarray]
+    population: Population
+    mapped: PopulationMap
+
+
+def read_build_spec(build_dir: Path) -> Spec:
+    """The ``spec.json`` of a build directory, with a one-line error when missing or damaged."""
+    spec_path = build_dir / "spec.json"
+    if not spec_path.is_file():
+        raise MazeError(
+            "not a .maze file nor a MazeGen build directory (no spec.json)", filename=str(build_dir)
+        )
+    try:
+        return Spec.from_json(spec_path.read_text(encoding="utf-8"))
+    except (
+        ValueError,
+        KeyError,
+        TypeError,
+        AttributeError,  # JSON of another shape: null, a list…
+    ) as error:  # JSONDecodeError and UnicodeDecodeError are ValueErrors
+        raise MazeError(
+            f"damaged spec.json ({type(error).__name__}: {error})", filename=str(spec_path)
+        ) from None
+
+
+def _made_by_an_earlier_version(error: ModuleNotFoundError, path: Path) -> MazeError:
+    """A build folder (or a run's copy of one) whose fitness module imports what this MazeGen moved."""
+    lines = [
+        frame.lineno for frame in traceback.extract_tb(error.__traceback__) if frame.filename == str(path)
+    ]
+    return MazeError(
+        f"fitness.py imports {error.name}, which this MazeGen does not have: it was made by an earlier "
+        "version; rebuild it with 'mazegen build SPEC' (and redo any edits)",
+        filename=str(path),
+        line=lines[-1] if lines else None,
+    )
+
+
+def _load_fitness(path: Path) -> ModuleType:
+    module_name = f"mazegen_fitness_{abs(hash(str(path)))}"
+    loader_spec = importlib.util.spec_from_file_location(module_name, path)
+    if loader_spec is None or loader_spec.loader is None:
+        raise MazeError("cannot load the fitness module", filename=str(path))
+    module = importlib.util.module_from_spec(loader_spec)
+    try:
+        loader_spec.loader.exec_module(module)
+    except SyntaxError as error:
+        raise MazeError(
+            f"fitness module does not compile: {error.msg}",
+            filename=str(path),
+            line=error.lineno,
+            col=error.offset,
+        ) from None
+    except Exception as error:  # an edited module that raises as it loads
+        if isinstance(error, ModuleNotFoundError) and (error.name or "").startswith("mazegen."):
+            raise _made_by_an_earlier_version(error, path) from None
+        raise MazeError(
+            f"fitness module raised {type(error).__name__} as it loads: {error}", filename=str(path)
+        ) from None
+    for name in ("terms", "rejected"):
+        if not callable(getattr(module, name, None)):
+            raise MazeError(f"fitness module must define {name}(pop)", filename=str(path))
+    sys.modules.setdefault(module_name, module)
+    return module
+
+
+class Workspace:
+    """The large arrays of an evaluation, kept from one generation to the next.
+
+    A population of 50,000 with 32 slots needs tens of MB per evaluation; writing
+    into the same pages each generation spares the allocation and page faults.
+    Evaluations that use a workspace return views of it, valid until the next one.
+    """
+
+    def __init__(self) -> None:
+        self._map: PopulationMap | None = None
+        self._params = np.empty((0, 0, PLACEMENT_GENES))
+
+    def arrays(self, rows: int, slots: int, numbers: bool) -> tuple[PopulationMap, np.ndarray]:
+        """Mapping and placement arrays for ``rows`` individuals (views of the first rows)."""
+        kept = self._map
+        width = slots if numbers else 0
+        if (
+            kept is None
+            or kept.valid.shape[0] < rows
+            or kept.element_ids.shape[1] != slots
+            or (kept.numbers.shape[1] != width)
+        ):
+            capacity = max(rows, 0 if kept is None else kept.valid.shape[0])
+            kept = self._map = PopulationMap(
+                np.empty(capacity, np.bool_),
+                np.empty(capacity, np.int32),
+                np.empty(capacity, np.int32),
+                np.empty((capacity, slots), np.int32),
+                np.empty((capacity, width, NUMBERS_PER_ELEMENT), np.float64),
+            )
+            self._params = np.empty((capacity, slots, PLACEMENT_GENES))
+        view = PopulationMap(*(array[:rows] for array in vars(kept).values()))
+        return view, self._params[:rows]
+
+
+@dataclass(frozen=True)
+class Problem:
+    """Everything needed to evaluate genomes of one experiment."""
+
+    spec: Spec
+    grammar: Grammar
+    compiled: CompiledGrammar
+    table: ElementTable
+    ranges: Ranges
+    fitness_module: ModuleType
+    build_dir: Path
+
+    @classmethod
+    def from_build_dir(cls, build_dir: Path) -> Problem:
+        """Load ``spec.json``, ``grammar.bnf`` and ``fitness.py`` from a build directory."""
+        spec = read_build_spec(build_dir)
+        grammar = read_bnf(build_dir / "grammar.bnf")
+        types = spec.scenario_elements
+        return cls(
+            spec=spec,
+            grammar=grammar,
+            compiled=compile_grammar(grammar, [t.name for t in types]),
+            table=ElementTable.from_types(types),
+            ranges=Ranges.from_spec(spec),
+            fitness_module=_load_fitness(build_dir / "fitness.py"),
+            build_dir=build_dir,
+        )
+
+    @property
+    def slots(self) -> int:
+        """Element slots K (placement rows per genome)."""
+        return self.spec.scenario.max_elements
+
+    def decode(
+        self, codons: np.ndarray, genes: np.ndarray, workspace: Workspace | None = None
+    ) -> tuple[PopulationMap, Population]:
+        """Map structure codons and decode placements (into ``workspace`` when given)."""
+        evolution = self.spec.evolution
+        numbers = self.spec.scenario.placement is not None  # only grammar placement reads them
+        out, params = (
+            (None, None) if workspace is None else workspace.arrays(codons.shape[0], self.slots, numbers)
+        )
+        mapped = map_population(
+            self.compiled,
+            codons,
+            wraps=evolution.wraps,
+            consume=evolution.consume,
+            max_elements=self.slots,
+            numbers=numbers,
+            out=out,
+        )
+        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params)
+
+    def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """Fitness and per-term values of a decoded population.
+
+        Raises:
+            MazeError: when the fitness module (which users may edit) fails, naming its line.
+        """
+        terms = _call_fitness(self.fitness_module, "terms", population)
+        total = np.zeros(population.size, dtype=np.float64)
+        for values in terms.values():
+            total += values
+        rejected = _call_fitness(self.fitness_module, "rejected", population)
+        bad = ~population.valid | np.asarray(rejected, dtype=bool)
+        return np.where(bad, INVALID, total), terms
+
+    def rejections(self, population: Population) -> dict[str, np.ndarray]:
+        """Each reject term's verdict per individual (True: rejected), by term key; a fitness module
+        without ``rejections`` (generated before it, or edited without it) gives one verdict,
+        ``REJECTED``, its ``rejected(pop)``.
+
+        Raises:
+            MazeError: when the fitness module fails, naming its line.
+        """
+        if not callable(getattr(self.fitness_module, "rejections", None)):
+            return {REJECTED: np.asarray(_call_fitness(self.fitness_module, "rejected", population), bool)}
+        verdicts = _call_fitness(self.fitness_module, "rejections", population)
+        return {key: np.asarray(verdict, dtype=bool) for key, verdict in verdicts.items()}
+
+    def evaluate(
+        self, codons: np.ndarray, genes: np.ndarray, workspace: Workspace | None = None
+    ) -> Evaluation:
+        """Map, decode and score a population of genomes (into ``workspace`` when given)."""
+        mapped, population = self.decode(codons, genes, workspace)
+        fitness, terms = self.score(population)
+        return Evaluation(fitness, terms, population, mapped)
+
+
+def _call_fitness(module: ModuleType, name: str, population: Population) -> Any:
+    """``module.name(population)``; an exception raised through the module's own lines becomes a
+    one-line error at the last of them (the module runs from a worker's copy, so it is named
+    ``fitness.py`` alone)."""
+    try:
+        return getattr(module, name)(population)
+    except Exception as error:
+        lines = [
+            line
+            for frame, line in traceback.walk_tb(error.__traceback__)
+            if frame.f_code.co_filename == module.__file__
+        ]
+        if not lines:
+            raise
+        raise MazeError(
+            f"{name}(pop) raised {type(error).__name__}: {error}", filename="fitness.py", line=lines[-1]
+        ) from None

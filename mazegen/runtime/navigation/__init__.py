@@ -1,0 +1,24 @@
+"""Can a robot cross the floor, and how hard is it: reachability, path search and the
+difficulty metrics, computed from a population (which knows nothing of them).
+
+See ``docs/architecture.md`` for where this sits among the runtime's rooms.
+"""
+
+from mazegen.runtime.navigation.connectivity import Reach, reach
+from mazegen.runtime.navigation.difficulty import Survey, survey
+from mazegen.runtime.navigation.measures import navigation_of, reach_of, survey_of
+from mazegen.runtime.navigation.paths import Navigation, free_cells, navigate, path_of
+
+__all__ = [
+    "Navigation",
+    "Reach",
+    "Survey",
+    "free_cells",
+    "navigate",
+    "navigation_of",
+    "path_of",
+    "reach",
+    "reach_of",
+    "survey",
+    "survey_of",
+]

@@ -1,0 +1,42 @@
+"""Running experiments: the experiment, launching its runs on executors (local processes,
+serial, Dask), the worker, checkpoints, run directories, resuming, progress and compile-ahead.
+
+See ``docs/architecture.md`` for where this sits among the runtime's rooms.
+"""
+
+from mazegen.runtime.runs.experiment import BUILD_FILES, Experiment, default_run_dir
+from mazegen.runtime.runs.launcher import (
+    ExperimentResult,
+    Job,
+    RunsInterrupted,
+    executor_for,
+    launch,
+    run_jobs,
+)
+from mazegen.runtime.runs.executors import Executor, LocalExecutor, SerialExecutor
+from mazegen.runtime.runs.results import RunDirectory
+from mazegen.runtime.runs.resumable import resumable_experiment
+from mazegen.runtime.runs.progress import Reporter, reporter_for
+from mazegen.runtime.runs.warmup import compile_kernels
+from mazegen.runtime.runs.command_line import main
+
+__all__ = [
+    "BUILD_FILES",
+    "Executor",
+    "Experiment",
+    "ExperimentResult",
+    "Job",
+    "LocalExecutor",
+    "Reporter",
+    "RunDirectory",
+    "RunsInterrupted",
+    "SerialExecutor",
+    "compile_kernels",
+    "default_run_dir",
+    "executor_for",
+    "launch",
+    "main",
+    "reporter_for",
+    "resumable_experiment",
+    "run_jobs",
+]

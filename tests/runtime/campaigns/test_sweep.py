@@ -1,0 +1,105 @@
+"""Sweeps: settings grids, cell names and specs, and a whole sweep into one catalog, continued when rerun."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from click.testing import CliRunner
+
+import mazegen
+from mazegen.cli.main import main
+from mazegen.errors import MazeError
+from mazegen.runtime.campaigns.sweep import Axis, apply_cell, cell_name, grid
+from mazegen.runtime.catalog.catalog import Catalog
+from mazegen.runtime.catalog.catalog_query import run_rows
+from tests.conftest import EXAMPLES
+
+FACTORY = mazegen.load(EXAMPLES / "factory.maze")
+
+
+def test_axes_grid_and_cell_names():
+    axes = [Axis.parse("population=500,1000"), Axis.parse("seed=1..3"), Axis.parse("fitness.overlap=0.25")]
+    assert axes[1].values == (1, 2, 3) and axes[2].values == (0.25,)
+    cells = grid(axes)
+    assert len(cells) == 6 and cells[0] == {"population": 500, "seed": 1, "fitness.overlap": 0.25}
+    assert cells[-1]["population"] == 1000 and cells[-1]["seed"] == 3
+    assert cell_name("factory", cells[1]) == "factory-population500-seed2-overlap0.25"
+
+
+def test_a_cell_changes_the_spec_it_names():
+    spec = apply_cell(FACTORY, {"population": 2, "tournament": 2, "fitness.overlap": 2.0})
+    assert spec.evolution.population == 2 and spec.evolution.selection == "tournament"
+    assert spec.evolution.elitism == 1  # clamped below the population, as mazegen run does
+    assert [t.weight for t in spec.fitness if t.key == "overlap"] == [2.0]
+    assert FACTORY.fitness != spec.fitness and FACTORY.evolution.population == 1000
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("population", "cannot read --set 'population'"),
+        ("speed=1,2", "cannot sweep 'speed' (known: population"),
+        ("population=0,10", "--set population: 0 must be at least 1"),
+        ("mutation=1.5", "--set mutation: 1.5 must be within [0, 1]"),
+        ("seed=1..x", "--set seed: '1..x' is not a valid value"),
+        ("seed=3..1", "--set seed: empty range '3..1'"),
+        ("seed=1,1", "--set seed: a value is given twice"),
+    ],
+)
+def test_bad_settings_are_one_line_errors(text, message):
+    with pytest.raises(MazeError) as error:
+        Axis.parse(text)
+    assert str(error.value).startswith(message)
+
+
+def test_unknown_fitness_term():
+    with pytest.raises(MazeError, match="spec 'factory' has no fitness term 'size_limit'"):
+        apply_cell(FACTORY, {"fitness.size_limit": 1.0})
+
+
+def test_sweep_command_fills_one_catalog_and_continues_when_rerun(tmp_path):
+    out = tmp_path / "sweep"
+    args = [
+        "sweep",
+        str(EXAMPLES / "factory.maze"),
+        str(EXAMPLES / "table1" / "exp3.maze"),
+        "--set",
+        "population=30,40",
+        "--set",
+        "generations=1",
+        "--runs",
+        "2",
+        "--executor",
+        "serial",
+        "-q",
+        "-o",
+        str(out),
+    ]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 0, result.output
+    names = [line.split(":")[0] for line in result.output.splitlines()[:-1]]
+    assert names == [
+        "factory-population30-generations1",
+        "factory-population40-generations1",
+        "table1_exp3-population30-generations1",
+        "table1_exp3-population40-generations1",
+    ]
+    for name in names:
+        record = json.loads((out / name / "experiment.json").read_text())
+        assert record["evolution"]["runs"] == 2 and (out / name / "stats.csv").is_file()
+    catalog = Catalog.open(out / "catalog.sqlite", create=False)
+    rows = run_rows(catalog)
+    assert len(rows) == 8 and {row["status"] for row in rows} == {"finished"}
+    assert {json.loads(row["sweep"])["population"] for row in rows} == {30, 40}
+    catalog.close()
+
+    (out / names[1] / "stats.csv").unlink()  # as if killed before its end: resumed from its checkpoints
+    again = CliRunner().invoke(main, args)
+    assert again.exit_code == 0, again.output
+    assert again.output.splitlines()[0] == f"{names[0]}: finished earlier, skipped"
+    assert again.output.splitlines()[1].startswith(f"{names[1]}: 2 runs, best fitness")
+    changed = CliRunner().invoke(main, [*args[:4], "population=30,50", *args[5:]])
+    assert changed.exit_code == 0, changed.output  # a new cell beside the old ones
+    clash = CliRunner().invoke(main, [*args[:8], "3", *args[9:]])  # --runs 3: same names, other experiments
+    assert clash.exit_code == 1 and "holds another experiment (use --force" in clash.stderr

@@ -1,0 +1,109 @@
+"""The layering of docs/architecture.md holds: import-linter's contracts, and no import cycle."""
+
+from __future__ import annotations
+
+import ast
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from tests.conftest import ROOT
+
+LINT = (
+    "import sys; from importlinter.cli import lint_imports; "
+    "sys.exit(lint_imports(config_filename='pyproject.toml', no_cache=True, no_logo=True))"
+)
+
+
+def lint_imports(checkout: Path) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(checkout)}
+    return subprocess.run([sys.executable, "-c", LINT], cwd=checkout, env=env, capture_output=True, text=True)
+
+
+def test_the_import_contracts_hold():
+    done = lint_imports(ROOT)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "0 broken" in done.stdout
+
+
+def test_a_wrong_way_import_breaks_a_contract(tmp_path):
+    shutil.copytree(ROOT / "mazegen", tmp_path / "mazegen", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(ROOT / "pyproject.toml", tmp_path)
+    population = tmp_path / "mazegen" / "runtime" / "engine" / "population.py"
+    population.write_text(
+        population.read_text() + "\n\ndef _late():\n    import mazegen.runtime.runs.launcher\n"
+    )
+    done = lint_imports(tmp_path)
+    assert done.returncode != 0
+    assert "Runtime rooms import downwards only" in done.stdout
+    assert "mazegen.runtime.engine.population -> mazegen.runtime.runs.launcher" in done.stdout
+
+
+def imports_of(package: Path) -> dict[str, set[str]]:
+    """Each module of ``package`` and the modules of it that it imports, anywhere in its code
+    (functions and ``TYPE_CHECKING`` blocks too)."""
+    modules = {}
+    for path in package.rglob("*.py"):
+        parts = list(path.relative_to(package.parent).with_suffix("").parts)
+        modules[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    graph: dict[str, set[str]] = {}
+    for name, path in modules.items():
+        here = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        targets = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                targets |= {alias.name for alias in node.names}
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    base = ".".join(here[: len(here) - node.level + 1] + ([base] if base else []))
+                # "from package import module" imports that module (a parent package runs first anyway)
+                named = {f"{base}.{alias.name}" for alias in node.names}
+                targets |= named if named <= modules.keys() else named | {base}
+        graph[name] = {target for target in targets if target in modules and target != name}
+    return graph
+
+
+def cycles(graph: dict[str, set[str]]) -> list[set[str]]:
+    """The groups of modules that import each other, directly or not (Tarjan's components)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    found: list[set[str]] = []
+
+    def visit(module: str) -> None:
+        index[module] = low[module] = len(index)
+        stack.append(module)
+        for target in graph[module]:
+            if target not in index:
+                visit(target)
+                low[module] = min(low[module], low[target])
+            elif target in stack:
+                low[module] = min(low[module], index[target])
+        if low[module] == index[module]:
+            group = set()
+            while not group or module not in group:
+                group.add(stack.pop())
+            if len(group) > 1:
+                found.append(group)
+
+    for module in graph:
+        if module not in index:
+            visit(module)
+    return found
+
+
+def test_no_module_imports_itself_through_others():
+    assert cycles(imports_of(ROOT / "mazegen")) == []
+
+
+def test_a_cycle_through_a_function_level_import_is_found(tmp_path):
+    package = tmp_path / "pkg"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "a.py").write_text("from pkg.b import helper\n")
+    (package / "b.py").write_text("def helper():\n    from . import c\n")
+    (package / "c.py").write_text("def late():\n    import pkg.a\n")
+    assert cycles(imports_of(package)) == [{"pkg.a", "pkg.b", "pkg.c"}]
