@@ -33,7 +33,8 @@ from common import BENCHMARKS, ROOT, markdown_table, median_seconds, peak_rss_mb
 
 import mazegen
 from mazegen.generator.build import build
-from mazegen.runtime.engine import evolution, metrics
+from mazegen.runtime import metrics
+from mazegen.runtime.engine import evolution
 from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine.mapping import PopulationMap, map_population
 from mazegen.runtime.engine.operators import random_codons, random_genes
