@@ -1,6 +1,6 @@
 """MazeGen: robot-navigation scenarios from a small language, by grammatical evolution.
 
-The API (``load``, ``build``, ``run``) lives in :mod:`mazegen.api`; it is imported
+The API (``load``, ``build``, ``run``, ``resume``, ``sweep``) lives in :mod:`mazegen.api`; it is imported
 on first use so that ``import mazegen`` stays light for the command line.
 """
 
@@ -10,7 +10,7 @@ from typing import Any
 
 from mazegen.version import __version__ as __version__  # the package states its version
 
-__all__ = ["build", "load", "run"]
+__all__ = ["build", "load", "resume", "run", "sweep"]
 
 
 def __getattr__(name: str) -> Any:
