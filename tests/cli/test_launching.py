@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from tests.runtime.test_progress import Notes
+from tests.runtime.runs.test_progress import Notes
 
 import mazegen
 import mazegen.runtime
