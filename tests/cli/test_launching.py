@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-from tests.runtime.runs.test_progress import Notes
-
 import mazegen
 import mazegen.runtime
 import mazegen.runtime.runs.warmup
@@ -11,6 +9,7 @@ from mazegen.cli.launching import compile_first
 from mazegen.runtime.engine.problem import Problem
 from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
 from tests.conftest import EXAMPLES
+from tests.runtime.runs.test_progress import Notes
 
 
 def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
