@@ -1,4 +1,4 @@
-"""The Python API: load a spec, build it, run it, get the best scenarios.
+"""The Python API: load a spec, build it, run it, resume it, sweep its settings, get the best scenarios.
 
 Example::
 
@@ -6,6 +6,9 @@ Example::
     spec = mazegen.load("examples/factory.maze")
     result = mazegen.run(spec, seed=3, population=500)
     print(result.best[0][0]["phenotype"])
+
+Errors are :class:`~mazegen.errors.MazeError`; those naming an option name it as
+this API does (``force=True``), where the command line says ``--force``.
 """
 
 from __future__ import annotations

@@ -35,7 +35,7 @@ try:
 except ImportError:  # Windows: run directories are not locked
     fcntl = None  # type: ignore[assignment]
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.fileio import FOLDER_MODE, make_folder, write_atomic
 from mazegen.runtime.evolution import GenerationStats, RunResult
 from mazegen.runtime.render import scenario_svg
@@ -98,8 +98,8 @@ def staged_directory(target: Path, *, force: bool) -> Iterator[Path]:
     """
     if target.exists() and any(target.iterdir()) and not force:
         raise MazeError(
-            "output directory already exists and is not empty (use --force to replace it, "
-            "or -o to choose another)",
+            f"output directory already exists and is not empty (use {option('force')} to replace it, "
+            f"or {option('out_dir')} to choose another)",
             filename=str(target),
         )
     make_folder(target.parent)
@@ -163,8 +163,9 @@ class RunDirectory:
             if not force:
                 directory.close()
                 raise MazeError(
-                    "output directory already exists and is not empty (use --force to replace it, "
-                    "-o to choose another, or mazegen resume to continue an interrupted run)",
+                    f"output directory already exists and is not empty (use {option('force')} to replace "
+                    f"it, {option('out_dir')} to choose another, or {option('resume')} to continue an "
+                    "interrupted run)",
                     filename=str(path),
                 )
             for child in path.iterdir():  # the folder itself stays: it carries the lock
