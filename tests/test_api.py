@@ -49,3 +49,14 @@ def test_an_options_name_has_one_spelling_per_caller():
     assert error.render(command_line=True) == "x: use --force to replace it"
     with pytest.raises(KeyError):
         mazegen.errors.option("nosuch")
+
+
+def test_sweep_then_resume_from_python(tmp_path):
+    spec = mazegen.load(EXAMPLES / "mazegen1.maze")
+    settings = {"population": [20, 30], "generations": [1]}
+    cells = mazegen.sweep([spec], settings, out_dir=tmp_path / "sweep", runs=1)
+    assert [path.parent for path, _ in cells] == [tmp_path / "sweep"] * 2
+    assert all(isinstance(result, mazegen.ExperimentResult) and result.best[0] for _, result in cells)
+    assert [result for _, result in mazegen.sweep([spec], settings, out_dir=tmp_path / "sweep")] == [None] * 2
+    with pytest.raises(MazeError, match="finished: nothing to resume"):
+        mazegen.resume(cells[0][0])

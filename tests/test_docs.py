@@ -2,7 +2,8 @@
 
 A block's info string names its kind (GitHub highlights by the first word and ignores the rest):
 
-- ``python``: run in this process; ``python fragment``: an excerpt, compiled only.
+- ``python``: run in this process, twice (a reader pastes it again); ``python fragment``: an excerpt,
+  compiled only.
 - ``sh``: every ``mazegen ...`` command (also after ``&&``) runs as ``python -m mazegen`` and exits 0;
   any other command must match :data:`SKIPPED`.
 - ``console``: each ``$ mazegen ...`` line runs; its standard output must be the lines shown under it
@@ -161,7 +162,8 @@ def test_block(block: Block, workdir: Path, monkeypatch) -> None:
         code = compile(block.text, block.where, "exec")
         if "fragment" not in block.options:
             monkeypatch.chdir(workdir)
-            exec(code, {"__name__": "__docs__"})
+            for _ in range(2):
+                exec(code, {"__name__": "__docs__"})
     elif block.kind == "sh":
         for command in sh_commands(block.text):
             if command.startswith("mazegen "):
