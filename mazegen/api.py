@@ -16,7 +16,7 @@ from __future__ import annotations
 import os
 import shutil
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -155,7 +155,7 @@ def resume(
 
 def sweep(
     specs: Sequence[Spec | str | os.PathLike[str]],
-    settings: dict[str, Sequence[int | float]],
+    settings: Mapping[str, Sequence[int | float]],
     *,
     out_dir: str | os.PathLike[str],
     runs: int | None = None,

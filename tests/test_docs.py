@@ -220,16 +220,23 @@ def quoted_block(page: str, start: str) -> Block:
     return block
 
 
-def test_the_files_quoted_are_those_the_sample_run_writes(tmp_path):
-    (tmp_path / "examples").symlink_to(ROOT / "examples")
-    run_ok(f"{SAMPLE_RUN} -o sample -q", tmp_path)
+@pytest.fixture(scope="module")
+def sample_run(tmp_path_factory) -> Path:
+    """The sample run's directory, with its ROS and MovingAI exports."""
+    folder = tmp_path_factory.mktemp("sample")
+    (folder / "examples").symlink_to(ROOT / "examples")
+    run_ok(f"{SAMPLE_RUN} -o sample -q", folder)
     for kind in ("ros", "movingai"):
-        run_ok(f"mazegen export sample --format {kind}", tmp_path)
+        run_ok(f"mazegen export sample --format {kind}", folder)
+    return folder / "sample"
+
+
+def test_the_files_quoted_are_those_the_sample_run_writes(sample_run):
     for page, start, name in SAMPLES:
         block = quoted_block(page, start)
-        assert shown_as(block.text, (tmp_path / "sample" / name).read_text()), f"{block.where} is not {name}"
+        assert shown_as(block.text, (sample_run / name).read_text()), f"{block.where} is not {name}"
     quoted = json.loads(quoted_block("scenario-format.md", '{\n  "evolution"').text)
-    written = json.loads((tmp_path / "sample" / "experiment.json").read_text())
+    written = json.loads((sample_run / "experiment.json").read_text())
     assert set(quoted.pop("versions")) == set(written.pop("versions"))  # their numbers are this machine's
     assert written.pop("source").endswith("/" + quoted.pop("source"))  # written as an absolute path
     assert quoted == written
@@ -244,3 +251,22 @@ def test_the_difficulty_of_the_example_floors_is_the_one_quoted():
     assert quoted is not None, "difficulty.md no longer quotes the example floors' scores"
     scores = survey(population(ARENA, [[], ZIGZAG])).difficulty
     assert [int(quoted[1]), int(quoted[2])] == [round(float(score)) for score in scores]
+
+
+def abridges(shown: object, actual: object) -> bool:
+    """Whether ``shown`` is ``actual`` with some keys and list items left out (kept items in order)."""
+    if isinstance(shown, dict):
+        return isinstance(actual, dict) and all(
+            k in actual and abridges(v, actual[k]) for k, v in shown.items()
+        )
+    if isinstance(shown, list):
+        rest = iter(actual) if isinstance(actual, list) else iter(())
+        return all(any(abridges(item, candidate) for candidate in rest) for item in shown)
+    return shown == actual
+
+
+def test_the_abridged_scenario_is_the_sample_runs_best(sample_run):
+    block = quoted_block("scenario-format.md", '{\n "format": "mazegen-scenario"')
+    shown = json.loads(re.sub(r",\s*\.\.\.|\.\.\.,\s*|\n\s*\.\.\.\n", "\n", block.text))
+    written = json.loads((sample_run / "run-01" / "best-01.json").read_text())
+    assert abridges(shown, written), f"{block.where} is not run-01/best-01.json of: {SAMPLE_RUN}"
