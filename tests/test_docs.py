@@ -57,12 +57,15 @@ OVERRIDES = {
 }
 """Beginnings of commands replaced here, with the replacement and the reason."""
 
+SAMPLE_RUN = "mazegen run examples/factory.maze --population 50 --generations 2"
+"""The run the pages quote files of (scenario-format.md and exports.md say so)."""
+
 PRELUDES = {
     "catalog.md": [
-        "mazegen run examples/factory.maze --population 50 --generations 2 -q",
+        f"{SAMPLE_RUN} -q",
         "mazegen sweep examples/factory.maze --set seed=1..2 --set population=50 --set generations=2 -q",
     ],
-    "exports.md": ["mazegen run examples/factory.maze --population 50 --generations 2 -q"],
+    "exports.md": [f"{SAMPLE_RUN} -q"],
 }
 """Commands run before a page's blocks: what the page assumes its reader has done."""
 
@@ -127,21 +130,24 @@ def run_ok(command: str, cwd: Path) -> str:
     return done.stdout
 
 
-_WORKDIRS: dict[Path, Path] = {}
+@pytest.fixture(scope="module")
+def workdirs() -> dict[Path, Path]:
+    """Each page's working directory, once made."""
+    return {}
 
 
 @pytest.fixture
-def workdir(request, tmp_path_factory) -> Path:
+def workdir(request, tmp_path_factory, workdirs: dict[Path, Path]) -> Path:
     """The working directory of the block's page, made (with its prelude) for the page's first block."""
     page: Path = request.node.callspec.params["block"].page
-    if page not in _WORKDIRS:
+    if page not in workdirs:
         folder = tmp_path_factory.mktemp(page.stem)
         for shared in ("examples", "docs"):
             (folder / shared).symlink_to(ROOT / shared)
         for command in PRELUDES.get(page.name, []):
             run_ok(command, folder)
-        _WORKDIRS[page] = folder
-    return _WORKDIRS[page]
+        workdirs[page] = folder
+    return workdirs[page]
 
 
 def run_console(text: str, cwd: Path) -> None:
@@ -196,9 +202,6 @@ def test_every_skip_and_override_is_still_needed():
         assert any(command.startswith(start) for command in commands), f"no docs command needs {start!r}"
     assert {page.name for page in PAGES} >= set(PRELUDES)
 
-
-SAMPLE_RUN = "mazegen run examples/factory.maze --population 50 --generations 2"
-"""The run the pages quote files of (scenario-format.md and exports.md say so)."""
 
 SAMPLES = [
     ("scenario-format.md", "run,generation,evaluations,", "stats.csv"),
