@@ -41,4 +41,5 @@ def __getattr__(name: str) -> Any:
 
 
 def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+    """The public names and the module's own attributes, not the helpers it imports."""
+    return sorted([*__all__, *(name for name in globals() if name.startswith("__"))])

@@ -18,6 +18,7 @@ def test_every_public_name_resolves_and_is_listed():
         assert getattr(mazegen, name) is not None
     assert {"run", "resume", "sweep", "ExperimentResult", "MazeError"} <= set(mazegen.__all__)
     assert set(mazegen.__all__) <= set(dir(mazegen))
+    assert not {"Any", "TYPE_CHECKING", "annotations"} & set(dir(mazegen))
     with pytest.raises(AttributeError, match="no attribute 'nosuch'"):
         mazegen.nosuch  # noqa: B018
 
