@@ -2,6 +2,33 @@
 
 from __future__ import annotations
 
+import re
+
+SPELLINGS: dict[str, tuple[str, str]] = {
+    "force": ("--force", "force=True"),
+    "run force": ("mazegen run --force", "mazegen.run(..., force=True)"),
+    "out_dir": ("-o", "out_dir"),
+    "resume": ("mazegen resume", "mazegen.resume"),
+    "workers": ("--workers", "workers"),
+    "scheduler": ("--scheduler", "scheduler"),
+    "executor dask": ("--executor dask", 'executor="dask"'),
+    "checkpoint_every 0": ("--checkpoint-every 0", "checkpoint_every=0"),
+}
+"""What a message may tell the caller to change: on the command line, and in the Python API."""
+
+_OPTION = re.compile("<option:([a-z_ ]+)>")  # an option's name in a message until the message is printed
+
+
+def option(name: str) -> str:
+    """The option ``name`` (a key of :data:`SPELLINGS`) in a message, spelled as its caller spells it.
+
+    One message serves both callers: ``--force`` when the command line prints it,
+    ``force=True`` in a Python traceback.
+    """
+    if name not in SPELLINGS:
+        raise KeyError(f"no spelling for the option {name!r}")
+    return f"<option:{name}>"
+
 
 class MazeError(Exception):
     """A user-facing error with an optional source location.
@@ -23,5 +50,11 @@ class MazeError(Exception):
         self.col = col
 
     def __str__(self) -> str:
+        return self.render(command_line=False)
+
+    def render(self, *, command_line: bool) -> str:
+        """The error in one line, naming options as the command line or the Python API spells them."""
+        spelling = 0 if command_line else 1
+        message = _OPTION.sub(lambda found: SPELLINGS.get(found[1], (found[0],) * 2)[spelling], self.message)
         where = [str(part) for part in (self.filename, self.line, self.col) if part is not None]
-        return ":".join([*where, " " + self.message]) if where else self.message
+        return ":".join([*where, " " + message]) if where else message

@@ -17,7 +17,7 @@ def check(files: tuple[str, ...]) -> None:
         try:
             check_file(name)
         except MazeError as error:
-            click.echo(str(error), err=True)
+            click.echo(error.render(command_line=True), err=True)
             failed = True
         else:
             click.echo(f"{name}: OK")

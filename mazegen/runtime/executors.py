@@ -34,7 +34,7 @@ try:
 except ImportError:  # Windows: the watching thread alone
     fcntl = None  # type: ignore[assignment]
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.runtime.evolution import GenerationStats
 from mazegen.runtime.worker import RunKey, RunOutcome, RunTask, run_task
 
@@ -270,7 +270,7 @@ class LocalExecutor(PooledExecutor):
 
     def __init__(self, *, workers: int, threads_per_worker: int | None = None) -> None:
         if workers < 1:
-            raise MazeError(f"--workers must be at least 1, got {workers}")
+            raise MazeError(f"{option('workers')} must be at least 1, got {workers}")
         context = process_context()
         super().__init__(context.Queue())
         self._stop = context.Event()
@@ -316,12 +316,13 @@ def executor_for(
     if kind not in EXECUTORS:
         raise MazeError(f"unknown executor '{kind}' (choose {', '.join(EXECUTORS)})")
     if (kind == "dask") != (scheduler is not None):
-        raise MazeError("--scheduler goes with --executor dask, and --executor dask needs --scheduler")
+        dask, scheduler = option("executor dask"), option("scheduler")
+        raise MazeError(f"{scheduler} goes with {dask}, and {dask} needs {scheduler}")
     if kind == "dask":
         from mazegen.runtime.dask_executor import DaskExecutor  # the optional 'dask' extra
 
         return DaskExecutor(scheduler=str(scheduler))
     count = min(workers or available_cores(), runs)
     if workers is not None and workers < 1:
-        raise MazeError(f"--workers must be at least 1, got {workers}")
+        raise MazeError(f"{option('workers')} must be at least 1, got {workers}")
     return SerialExecutor() if kind == "serial" or count <= 1 else LocalExecutor(workers=count)

@@ -161,7 +161,7 @@ def main(build_dir: Path, argv: list[str] | None = None) -> int:
             reporter=reporter,
         )
     except MazeError as error:
-        print(error, file=sys.stderr)
+        print(error.render(command_line=True), file=sys.stderr)
         return 1
     except RunsInterrupted:
         print(f"interrupted; continue with: mazegen resume {out}", file=sys.stderr)

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.spec import EVOLUTION_BOUNDS, Evolution, Spec
 
 Value = int | float
@@ -181,7 +181,7 @@ def _state(run_dir: Path, spec: Spec) -> str:
     written = run_dir / "experiment" / "spec.json"
     if not written.is_file() or written.read_text(encoding="utf-8") != spec.to_json():
         raise MazeError(
-            "this cell's directory holds another experiment (use --force to replace it)",
+            f"this cell's directory holds another experiment (use {option('force')} to replace it)",
             filename=str(run_dir),
         )
     from mazegen.runtime.results import RunDirectory  # NumPy and the kernels: only once a sweep runs

@@ -16,8 +16,6 @@ from mazegen.cli.main import main
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 
-PAPER_GENOME = ["34", "10", "200", "80", "5", "70", "45", "43"]
-
 
 def invoke(*args: str):
     return CliRunner().invoke(main, list(args), catch_exceptions=False)
@@ -61,13 +59,6 @@ def test_check_loads_the_language_not_the_engine():
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.splitlines()[-1] == "[]"
-
-
-def test_build_then_map_the_papers_example(tmp_path):
-    out = tmp_path / "build"
-    assert invoke("build", str(EXAMPLES / "mazegen1.maze"), "-o", str(out)).exit_code == 0
-    result = invoke("map", str(out / "grammar.bnf"), *PAPER_GENOME)
-    assert result.output == "eshape(angle)\t3 codons\n"
 
 
 def test_map_a_spec_as_its_built_grammar_with_its_settings(tmp_path, write_spec):
