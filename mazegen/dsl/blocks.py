@@ -5,9 +5,12 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from mazegen.text import decode_escapes, quoted
+from mazegen.dsl.bounds import MAX_LENGTH, MAX_SLOTS, MAX_TARGET, MAX_TERMINALS, MAX_WEIGHT, at_most
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
 from mazegen.spec import (
     DIFFICULTY_LEVELS,
+    MAX_CODONS,
     Arena,
     Evolution,
     FitnessTerm,
@@ -17,9 +20,6 @@ from mazegen.spec import (
 )
 
 _WORD = re.compile(r"\w")
-# Element slots per floor: every individual carries this many placement rows, and the overlap
-# test keeps a list of every pair, so the count is bounded to keep memory in reason.
-MAX_SLOTS = 1000
 
 
 def convert_arena(decl: Any) -> Arena:
@@ -35,19 +35,29 @@ def convert_arena(decl: Any) -> Arena:
             fail(decl, f"{what} has no {example.split()[0]} (add e.g. '{example}')")
     size = props["ArenaSize"]
     if size.width <= 0 or size.height <= 0:
-        fail(size, f"arena size must be positive, got {size.width:g} x {size.height:g}")
+        fail(size, f"arena size must be positive, got {size.width:.15g} x {size.height:.15g}")
+    if max(size.width, size.height) > MAX_LENGTH:
+        fail(
+            size, f"arena size must be at most {MAX_LENGTH:.15g}, got {size.width:.15g} x {size.height:.15g}"
+        )
     radius = props["RobotProperty"].radius if "RobotProperty" in props else 0.0
     if radius < 0:
-        fail(props["RobotProperty"], f"robot radius must not be negative, got {radius:g}")
+        fail(props["RobotProperty"], f"robot radius must not be negative, got {radius:.15g}")
+    if "RobotProperty" in props:
+        at_most(props["RobotProperty"], radius, MAX_LENGTH, "robot radius")
     points = {}
     for key, label in (("StartProperty", "start"), ("GoalProperty", "goal")):
         point = props[key].point
         x, y = point.x, point.y
         if not (0 <= x <= size.width and 0 <= y <= size.height):
-            fail(point, f"{label} ({x:g}, {y:g}) is outside the arena {size.width:g} x {size.height:g}")
+            fail(
+                point,
+                f"{label} ({x:.15g}, {y:.15g}) is outside the arena {size.width:.15g} x {size.height:.15g}",
+            )
         if min(x, y, size.width - x, size.height - y) < radius:
             fail(
-                point, f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}"
+                point,
+                f"{label} ({x:.15g}, {y:.15g}) is closer to the arena wall than the robot radius {radius:.15g}",
             )
         points[label] = (x, y)
     if points["start"] == points["goal"]:
@@ -56,10 +66,10 @@ def convert_arena(decl: Any) -> Arena:
     if grid is not None and not 0 < grid <= min(size.width, size.height) / 4:
         fail(
             props["GridProperty"],
-            f"grid cell must be positive and at most a quarter of the arena's shorter side, got {grid:g}",
+            f"grid cell must be positive and at most a quarter of the arena's shorter side, got {grid:.15g}",
         )
     if grid is not None and max(size.width, size.height) / grid > 1024:
-        fail(props["GridProperty"], f"grid cell {grid:g} makes more than 1024 cells on a side")
+        fail(props["GridProperty"], f"grid cell {grid:.15g} makes more than 1024 cells on a side")
     return Arena(
         decl.name, size.width, size.height, size.unit or "cm", points["start"], points["goal"], radius, grid
     )
@@ -72,6 +82,9 @@ def _int_values(obj: Any, what: str, *, minimum: int) -> tuple[int, ...]:
     check_range(obj, obj.low, obj.high, what, positive=False)
     if obj.low < minimum:
         fail(obj, f"{what} must be at least {minimum}, got {obj.low}")
+    count = (obj.high - obj.low) // step + 1
+    if count > MAX_TERMINALS:
+        fail(obj, f"{what} {obj.low}..{obj.high} give {count} values; at most {MAX_TERMINALS}")
     return tuple(range(obj.low, obj.high + 1, step))
 
 
@@ -83,6 +96,12 @@ def _bnf_text(symbol: Any) -> str:
         fail(symbol, "empty text in a grammar rule")
     if '"' in text and "'" in text:
         fail(symbol, "grammar text cannot hold both kinds of quote")
+    if not text.isprintable():
+        fail(symbol, f"grammar text {quoted(text)} holds a control character (write \\n for a line break)")
+    try:
+        decode_escapes(text)  # as the run will, so a bad escape is found at the spec's line
+    except ValueError as error:
+        fail(symbol, f"bad escape in grammar text {quoted(text)}: {error}")
     return f"'{text}'" if '"' in text else f'"{text}"'
 
 
@@ -171,11 +190,13 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
         if positions[-1] > min(arena.width, arena.height):
             fail(
                 prop.positions,
-                f"positions up to {positions[-1]} go beyond the arena {arena.width:g} x {arena.height:g}",
+                f"positions up to {positions[-1]} go beyond the arena {arena.width:.15g} x {arena.height:.15g}",
             )
         scale = prop.scale if prop.scale is not None else 1.0
         if scale <= 0:
-            fail(prop, f"scale must be positive, got {scale:g}")
+            fail(prop, f"scale must be positive, got {scale:.15g}")
+        at_most(prop, scale, MAX_LENGTH, "scale")
+        at_most(prop, sizes[-1] * scale, MAX_LENGTH, f"sizes up to {sizes[-1]} x scale {scale:.15g}")
         placement = GrammarPlacement(sizes, scale, positions)
     return Scenario(decl.name, decl.arena, tuple(names), style, custom, max_elements, placement)
 
@@ -201,10 +222,13 @@ def _fitness_term(term: Any) -> FitnessTerm:
     kind = "metric" if getattr(term, "metric", None) else {"size": "size_limit"}.get(term.kind, term.kind)
     weight = term.weight if term.weight is not None else 1.0
     if weight < 0:
-        fail(term, f"weight must not be negative, got {weight:g}")
+        fail(term, f"weight must not be negative, got {weight:.15g}")
+    at_most(term, weight, MAX_WEIGHT, "weight")
     limit = getattr(term, "limit", None)
     if limit is not None and limit <= 0:
-        fail(term, f"size limit must be positive, got {limit:g}")
+        fail(term, f"size limit must be positive, got {limit:.15g}")
+    if limit is not None:
+        at_most(term, limit, MAX_LENGTH, "size limit")
     reject = bool(getattr(term, "reject", False))
     if kind == "size_limit" and getattr(term, "allow", False):
         fail(term, "a size limit needs 'reject' or 'penalty W'")
@@ -222,11 +246,13 @@ def _target(term: Any) -> tuple[float, float] | None:
     if span is None:
         return None
     if span.low >= span.high:
-        fail(span, f"a target range needs low < high, got {span.low:g}..{span.high:g}")
+        fail(span, f"a target range needs low < high, got {span.low:.15g}..{span.high:.15g}")
     if span.low < 0:
-        fail(span, f"a target range cannot go below 0, got {span.low:g}..{span.high:g}")
+        fail(span, f"a target range cannot go below 0, got {span.low:.15g}..{span.high:.15g}")
+    if span.high > MAX_TARGET:
+        fail(span, f"a target range cannot go above {MAX_TARGET}, got {span.low:.15g}..{span.high:.15g}")
     if getattr(term, "kind", None) == "coverage" and span.high > 1:
-        fail(span, f"coverage is a fraction of the floor (0..1), got {span.low:g}..{span.high:g}")
+        fail(span, f"coverage is a fraction of the floor (0..1), got {span.low:.15g}..{span.high:.15g}")
     return (float(span.low), float(span.high))
 
 
@@ -234,7 +260,7 @@ def _bounded(node: Any, key: str, value: Any, label: str) -> Any:
     """``value`` of evolution setting ``key``, failing at ``node`` when it is out of its bounds."""
     problem = out_of_bounds(key, value)
     if problem is not None:
-        shown = f"{value:g}" if isinstance(value, float) else str(value)
+        shown = f"{value:.15g}" if isinstance(value, float) else str(value)
         fail(node, f"{label} {problem}, got {shown}")
     return value
 
@@ -265,9 +291,16 @@ def convert_evolution(decl: Any | None) -> Evolution:
             fail(
                 codons, f"codons must be written 0..MAX with MAX at least 1, got {codons.low}..{codons.high}"
             )
-        values["codon_max"] = codons.high
+        values["codon_max"] = _bounded(codons, "codon_max", codons.high, "codons 0..MAX: MAX")
     if "ConsumeSetting" in props:
         values["consume"] = props["ConsumeSetting"].mode
+    population = values.get("population", Evolution.population)
+    genome = values.get("genome", Evolution.genome)
+    if population * genome > MAX_CODONS:
+        fail(
+            props.get("genome", props.get("population")),
+            f"population x genome must be at most {MAX_CODONS} codons, got {population} x {genome}",
+        )
     evolution = Evolution(**values)
     if evolution.elitism >= evolution.population:
         if "elitism" in props:

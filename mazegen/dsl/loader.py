@@ -20,6 +20,7 @@ from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
 from mazegen.spec import Spec
+from mazegen.text import quoted
 
 LIBRARY_DIR = Path(__file__).resolve().parent.parent / "library"
 
@@ -85,9 +86,15 @@ def _resolve_import(imp: Any, importer: Path) -> Path:
                 f" (bundled: {', '.join(bundled_libraries())}; import a file with a quoted path)",
             )
         return candidate
-    candidate = (importer.parent / imp.path).resolve()
-    if not candidate.is_file():
-        fail(imp, f"imported file '{imp.path}' not found")
+    if not imp.path.isprintable():
+        fail(imp, f"import path {quoted(imp.path)} holds a control character")
+    try:
+        candidate = (importer.parent / imp.path).resolve()
+        found = candidate.is_file()
+    except OSError as error:  # a name too long for the file system, a loop of links...
+        fail(imp, f"imported file {quoted(imp.path)} cannot be read: {error.strerror or error}")
+    if not found:
+        fail(imp, f"imported file {quoted(imp.path)} not found")
     return candidate
 
 
@@ -215,6 +222,11 @@ def spec_from_model(model: Any) -> Spec:
 
 def _existing(path: str | os.PathLike[str]) -> Path:
     p = Path(path)
-    if not p.is_file():
+    try:
+        found = p.is_file()
+    except (OSError, ValueError) as error:  # a name too long, a NUL byte in it
+        message = getattr(error, "strerror", None) or error
+        raise MazeError(f"cannot read spec: {message}", filename=str(path)) from None
+    if not found:
         raise MazeError("no such spec file", filename=str(path))
     return p
