@@ -5,7 +5,6 @@ from __future__ import annotations
 import re
 from typing import Any
 
-from mazegen.text import decode_escapes, quoted
 from mazegen.dsl.bounds import MAX_LENGTH, MAX_SLOTS, MAX_TARGET, MAX_TERMINALS, MAX_WEIGHT, at_most
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
 from mazegen.spec import (
@@ -18,6 +17,7 @@ from mazegen.spec import (
     Scenario,
     out_of_bounds,
 )
+from mazegen.text import decode_escapes, quoted
 
 _WORD = re.compile(r"\w")
 
