@@ -35,14 +35,13 @@ def convert_arena(decl: Any) -> Arena:
             fail(decl, f"{what} has no {example.split()[0]} (add e.g. '{example}')")
     size = props["ArenaSize"]
     if size.width <= 0 or size.height <= 0:
-        fail(size, f"arena size must be positive, got {size.width:.15g} x {size.height:.15g}")
+        fail(size, f"arena size must be positive, got {size.width:g} x {size.height:g}")
     if max(size.width, size.height) > MAX_LENGTH:
-        fail(
-            size, f"arena size must be at most {MAX_LENGTH:.15g}, got {size.width:.15g} x {size.height:.15g}"
-        )
+        shown = f"{size.width:.15g} x {size.height:.15g}"
+        fail(size, f"arena size must be at most {MAX_LENGTH}, got {shown}")
     radius = props["RobotProperty"].radius if "RobotProperty" in props else 0.0
     if radius < 0:
-        fail(props["RobotProperty"], f"robot radius must not be negative, got {radius:.15g}")
+        fail(props["RobotProperty"], f"robot radius must not be negative, got {radius:g}")
     if "RobotProperty" in props:
         at_most(props["RobotProperty"], radius, MAX_LENGTH, "robot radius")
     points = {}
@@ -52,12 +51,12 @@ def convert_arena(decl: Any) -> Arena:
         if not (0 <= x <= size.width and 0 <= y <= size.height):
             fail(
                 point,
-                f"{label} ({x:.15g}, {y:.15g}) is outside the arena {size.width:.15g} x {size.height:.15g}",
+                f"{label} ({x:g}, {y:g}) is outside the arena {size.width:g} x {size.height:g}",
             )
         if min(x, y, size.width - x, size.height - y) < radius:
             fail(
                 point,
-                f"{label} ({x:.15g}, {y:.15g}) is closer to the arena wall than the robot radius {radius:.15g}",
+                f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}",
             )
         points[label] = (x, y)
     if points["start"] == points["goal"]:
@@ -66,10 +65,10 @@ def convert_arena(decl: Any) -> Arena:
     if grid is not None and not 0 < grid <= min(size.width, size.height) / 4:
         fail(
             props["GridProperty"],
-            f"grid cell must be positive and at most a quarter of the arena's shorter side, got {grid:.15g}",
+            f"grid cell must be positive and at most a quarter of the arena's shorter side, got {grid:g}",
         )
     if grid is not None and max(size.width, size.height) / grid > 1024:
-        fail(props["GridProperty"], f"grid cell {grid:.15g} makes more than 1024 cells on a side")
+        fail(props["GridProperty"], f"grid cell {grid:g} makes more than 1024 cells on a side")
     return Arena(
         decl.name, size.width, size.height, size.unit or "cm", points["start"], points["goal"], radius, grid
     )
@@ -190,13 +189,13 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
         if positions[-1] > min(arena.width, arena.height):
             fail(
                 prop.positions,
-                f"positions up to {positions[-1]} go beyond the arena {arena.width:.15g} x {arena.height:.15g}",
+                f"positions up to {positions[-1]} go beyond the arena {arena.width:g} x {arena.height:g}",
             )
         scale = prop.scale if prop.scale is not None else 1.0
         if scale <= 0:
-            fail(prop, f"scale must be positive, got {scale:.15g}")
+            fail(prop, f"scale must be positive, got {scale:g}")
         at_most(prop, scale, MAX_LENGTH, "scale")
-        at_most(prop, sizes[-1] * scale, MAX_LENGTH, f"sizes up to {sizes[-1]} x scale {scale:.15g}")
+        at_most(prop, sizes[-1] * scale, MAX_LENGTH, f"sizes up to {sizes[-1]} x scale {scale:g}")
         placement = GrammarPlacement(sizes, scale, positions)
     return Scenario(decl.name, decl.arena, tuple(names), style, custom, max_elements, placement)
 
@@ -222,11 +221,11 @@ def _fitness_term(term: Any) -> FitnessTerm:
     kind = "metric" if getattr(term, "metric", None) else {"size": "size_limit"}.get(term.kind, term.kind)
     weight = term.weight if term.weight is not None else 1.0
     if weight < 0:
-        fail(term, f"weight must not be negative, got {weight:.15g}")
+        fail(term, f"weight must not be negative, got {weight:g}")
     at_most(term, weight, MAX_WEIGHT, "weight")
     limit = getattr(term, "limit", None)
     if limit is not None and limit <= 0:
-        fail(term, f"size limit must be positive, got {limit:.15g}")
+        fail(term, f"size limit must be positive, got {limit:g}")
     if limit is not None:
         at_most(term, limit, MAX_LENGTH, "size limit")
     reject = bool(getattr(term, "reject", False))
@@ -246,13 +245,13 @@ def _target(term: Any) -> tuple[float, float] | None:
     if span is None:
         return None
     if span.low >= span.high:
-        fail(span, f"a target range needs low < high, got {span.low:.15g}..{span.high:.15g}")
+        fail(span, f"a target range needs low < high, got {span.low:g}..{span.high:g}")
     if span.low < 0:
-        fail(span, f"a target range cannot go below 0, got {span.low:.15g}..{span.high:.15g}")
+        fail(span, f"a target range cannot go below 0, got {span.low:g}..{span.high:g}")
     if span.high > MAX_TARGET:
         fail(span, f"a target range cannot go above {MAX_TARGET}, got {span.low:.15g}..{span.high:.15g}")
     if getattr(term, "kind", None) == "coverage" and span.high > 1:
-        fail(span, f"coverage is a fraction of the floor (0..1), got {span.low:.15g}..{span.high:.15g}")
+        fail(span, f"coverage is a fraction of the floor (0..1), got {span.low:g}..{span.high:g}")
     return (float(span.low), float(span.high))
 
 
@@ -260,7 +259,7 @@ def _bounded(node: Any, key: str, value: Any, label: str) -> Any:
     """``value`` of evolution setting ``key``, failing at ``node`` when it is out of its bounds."""
     problem = out_of_bounds(key, value)
     if problem is not None:
-        shown = f"{value:.15g}" if isinstance(value, float) else str(value)
+        shown = f"{value:g}" if isinstance(value, float) else str(value)
         fail(node, f"{label} {problem}, got {shown}")
     return value
 

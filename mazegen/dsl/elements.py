@@ -30,7 +30,7 @@ def _parts(shape: Any) -> tuple[Part, ...]:
             _check_points(shape.points)
             return shapes.polygon_parts([(p.x, p.y) for p in shape.points])
         if shape.thickness <= 0:
-            fail(shape, f"bar thickness must be positive, got {shape.thickness:.15g}")
+            fail(shape, f"bar thickness must be positive, got {shape.thickness:g}")
         at_most(shape, shape.thickness, MAX_LENGTH, "bar thickness")
         if len(shape.segments) > MAX_CORNERS:
             fail(shape, f"a bar figure has at most {MAX_CORNERS} bars, got {len(shape.segments)}")
@@ -63,7 +63,7 @@ def _range(obj: Any, what: str) -> tuple[float, float]:
 def _angles(obj: Any, angles: tuple[float, ...]) -> None:
     for angle in angles:
         if abs(angle) > MAX_ANGLE:
-            fail(obj, f"rotation angles must be within -{MAX_ANGLE}..{MAX_ANGLE}, got {angle:.15g}")
+            fail(obj, f"rotation angles must be within -{MAX_ANGLE}..{MAX_ANGLE}, got {angle:g}")
 
 
 def _rotation(prop: Any | None) -> dict[str, Any]:
@@ -109,7 +109,7 @@ def convert_element(decl: Any) -> ElementType:
     if "HeightProperty" in props:
         height = props["HeightProperty"].height
         if height <= 0:
-            fail(props["HeightProperty"], f"height must be positive, got {height:.15g}")
+            fail(props["HeightProperty"], f"height must be positive, got {height:g}")
         at_most(props["HeightProperty"], height, MAX_LENGTH, "height")
         extras["height"] = height
     return ElementType(

@@ -69,6 +69,6 @@ def _label(key: str) -> str:
 def check_range(obj: Any, low: float, high: float, what: str, *, positive: bool = True) -> None:
     """Reject inverted ranges and, optionally, non-positive bounds."""
     if high < low:
-        fail(obj, f"empty {what} range {low:.15g}..{high:.15g} (low is above high)")
+        fail(obj, f"empty {what} range {low:g}..{high:g} (low is above high)")
     if positive and low <= 0:
-        fail(obj, f"{what} must be positive, got {low:.15g}")
+        fail(obj, f"{what} must be positive, got {low:g}")
