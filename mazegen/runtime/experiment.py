@@ -25,6 +25,7 @@ from mazegen.runtime.progress import reporter_for
 from mazegen.runtime.results import json_text
 from mazegen.runtime.worker import BuildFiles
 from mazegen.spec import EVOLUTION_BOUNDS, Spec, out_of_bounds
+from mazegen.text import printable
 
 BUILD_FILES = ("spec.json", "grammar.bnf", "fitness.py", "experiment.py")
 
@@ -109,7 +110,7 @@ def summary_lines(outcome: ExperimentResult) -> list[str]:
             top = documents[0]
             lines.append(
                 f"run {number}: best fitness {top['fitness']:g}, {len(top['elements'])} elements: "
-                f"{top['phenotype']}"
+                f"{printable(top['phenotype'])}"  # the grammar's text: control characters too
             )
         else:
             lines.append(f"run {number}: no valid scenario")
