@@ -78,14 +78,13 @@ def _check_declares(model: Any, label: str | None) -> None:
 
 def _resolve_import(imp: Any, importer: Path) -> Path:
     if imp.library is not None:
-        candidate = LIBRARY_DIR / f"{imp.library}.maze"
-        if not candidate.is_file():
+        if imp.library not in bundled_libraries():
             fail(
                 imp,
-                f"unknown library '{imp.library}'{suggestion(imp.library, bundled_libraries())}"
+                f"unknown library {quoted(imp.library)}{suggestion(imp.library, bundled_libraries())}"
                 f" (bundled: {', '.join(bundled_libraries())}; import a file with a quoted path)",
             )
-        return candidate
+        return LIBRARY_DIR / f"{imp.library}.maze"
     if not imp.path.isprintable():
         fail(imp, f"import path {quoted(imp.path)} holds a control character")
     try:

@@ -460,6 +460,12 @@ BAD_SPECS = [
         "bad escape in grammar text '\\N{NOPE}': unknown Unicode character name",
     ),
     (
+        "a library name too long for a file name",
+        "import " + "n" * 300 + "\n" + spec(),
+        "1:1",
+        "unknown library '" + "n" * 40 + "...' (bundled: figures, manufacturing",
+    ),
+    (
         "a huge token is quoted cut",
         "x" * 100_000 + " { }\n",
         "1:1",
