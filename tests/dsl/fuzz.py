@@ -90,7 +90,7 @@ def _work(conn: Connection, folder: str, evolve: bool) -> None:
         path.write_text(text, encoding="utf-8")
         try:
             outcome = _examine(path, root / "build", evolve)
-        except Exception:  # noqa: BLE001 - what the fuzzer looks for
+        except Exception:  # what the fuzzer looks for
             outcome = (TRACEBACK, traceback.format_exc())
         finally:
             path.write_text(source.read_text(encoding="utf-8"), encoding="utf-8")
@@ -122,7 +122,9 @@ class _Worker:
         self.conn.close()
 
 
-def fuzz(*, mutants: int, seed: int, evolve: bool = False, workers: int = 2, timeout: float = 15.0) -> Summary:
+def fuzz(
+    *, mutants: int, seed: int, evolve: bool = False, workers: int = 2, timeout: float = 15.0
+) -> Summary:
     """Make ``mutants`` mutants of ``seed`` and examine them in ``workers`` processes.
 
     Args:

@@ -129,6 +129,15 @@ def _hostile_number(rng: random.Random, pieces: list[str]) -> None:
     pieces[rng.choice(numbers)] = rng.choice(HOSTILE_NUMBERS)
 
 
+def _plausible_number(rng: random.Random, pieces: list[str]) -> None:
+    """A number scaled as a user might mistype it, so that many mutants still pass the checks."""
+    numbers = [i for i, piece in enumerate(pieces) if _NUMBER.fullmatch(piece)] or _tokens(pieces)
+    i = rng.choice(numbers)
+    if _NUMBER.fullmatch(pieces[i]):
+        value = float(pieces[i]) * rng.choice((0, 0.5, 2, 3, 10, 100, -1))
+        pieces[i] = str(int(value)) if value.is_integer() and rng.random() < 0.7 else f"{value:.3f}"
+
+
 def _hostile_text(rng: random.Random, pieces: list[str]) -> None:
     strings = [i for i, piece in enumerate(pieces) if piece[:1] in "\"'" and len(piece) > 1]
     hostile = rng.choice(HOSTILE_TEXT)
@@ -162,6 +171,9 @@ _TOKEN_MUTATIONS: tuple[Callable[[random.Random, list[str]], None], ...] = (
     _keyword_inserted,
     _hostile_number,
     _hostile_number,
+    _plausible_number,
+    _plausible_number,
+    _plausible_number,
     _hostile_text,
     _bracket,
     _long_name,
@@ -188,7 +200,7 @@ def mutant(seed: int, index: int) -> Mutant:
     source = SOURCES[index % len(SOURCES)]
     text = source.read_text(encoding="utf-8")
     done = []
-    for _ in range(rng.randint(1, 3)):
+    for _ in range(rng.choice((1, 1, 2, 3))):
         if rng.random() < 0.75:
             pieces = pieces_of(text)
             mutation = rng.choice(_TOKEN_MUTATIONS)

@@ -10,7 +10,6 @@ def test_mutants_are_seeded_and_cover_every_bundled_file():
     first = [mutant(7, index) for index in range(2 * len(SOURCES))]
     assert first == [mutant(7, index) for index in range(2 * len(SOURCES))]
     assert {m.source for m in first} == set(SOURCES)
-    assert all(m.text != m.source.read_text(encoding="utf-8") for m in first[:5]) or len(first) < 5
     assert [m.text for m in first] != [mutant(8, index).text for index in range(2 * len(SOURCES))]
 
 
