@@ -97,6 +97,6 @@ def map_command(
                 )
             )
         elif result.valid:
-            click.echo(f"{printable(result.phenotype)}\t{result.used_codons} codons")
+            click.echo(f"{printable(result.phenotype or '')}\t{result.used_codons} codons")
         else:
             click.echo(f"invalid\t{result.used_codons} codons")
