@@ -32,3 +32,13 @@ def test_run_prints_the_best_phenotype_escaped(write_spec, tmp_path):
     assert result.exit_code == 0, result.output
     assert "\x1b" not in result.output and "\x07" not in result.output
     assert "box\\x1b]0;TITLE\\x07" in result.output
+
+
+def test_check_prints_a_file_name_with_control_characters_escaped(write_spec):
+    good = write_spec(TITLE_SPEC, name="we\x1b]0;TITLE\x07ird.maze")
+    bad = write_spec("elemnt", name="ba\x1b[2Jd.maze")
+    result = CliRunner().invoke(main, ["check", str(good), str(bad)])
+    assert result.exit_code == 1
+    assert "\x1b" not in result.output and "\x07" not in result.output
+    assert "we\\x1b]0;TITLE\\x07ird.maze: OK" in result.output
+    assert "ba\\x1b[2Jd.maze:1:1: expected" in result.output
