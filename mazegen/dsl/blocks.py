@@ -49,14 +49,10 @@ def convert_arena(decl: Any) -> Arena:
         point = props[key].point
         x, y = point.x, point.y
         if not (0 <= x <= size.width and 0 <= y <= size.height):
-            fail(
-                point,
-                f"{label} ({x:g}, {y:g}) is outside the arena {size.width:g} x {size.height:g}",
-            )
+            fail(point, f"{label} ({x:g}, {y:g}) is outside the arena {size.width:g} x {size.height:g}")
         if min(x, y, size.width - x, size.height - y) < radius:
             fail(
-                point,
-                f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}",
+                point, f"{label} ({x:g}, {y:g}) is closer to the arena wall than the robot radius {radius:g}"
             )
         points[label] = (x, y)
     if points["start"] == points["goal"]:

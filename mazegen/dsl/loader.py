@@ -223,9 +223,8 @@ def _existing(path: str | os.PathLike[str]) -> Path:
     p = Path(path)
     try:
         found = p.is_file()
-    except (OSError, ValueError) as error:  # a name too long, a NUL byte in it
-        message = getattr(error, "strerror", None) or error
-        raise MazeError(f"cannot read spec: {message}", filename=str(path)) from None
+    except OSError as error:  # a name too long for the file system
+        raise MazeError(f"cannot read spec: {error.strerror or error}", filename=str(path)) from None
     if not found:
         raise MazeError("no such spec file", filename=str(path))
     return p

@@ -492,6 +492,16 @@ def test_missing_file_is_reported(tmp_path):
         load_spec(tmp_path / "absent.maze")
 
 
+@pytest.mark.parametrize(
+    ("name", "reason"),
+    [("a" * 300 + ".maze", "cannot read spec: File name too long"), ("a\0b", "no such spec")],
+)
+def test_a_spec_name_the_system_refuses_is_reported(tmp_path, name, reason):
+    for read in (check_file, load_spec):
+        with pytest.raises(MazeError, match=reason):
+            read(tmp_path / name)
+
+
 @pytest.mark.parametrize("text", ["", "   \n\n", "// only a comment\n"])
 def test_a_file_that_declares_nothing_is_reported(write_spec, text):
     path = write_spec(text)
