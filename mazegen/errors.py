@@ -4,6 +4,11 @@ from __future__ import annotations
 
 import re
 
+from mazegen.text import printable
+
+MESSAGE_LIMIT = 500
+"""The most characters a message shows: one that quotes a huge token is cut with an ellipsis."""
+
 SPELLINGS: dict[str, tuple[str, str]] = {
     "force": ("--force", "force=True"),
     "run force": ("mazegen run --force", "mazegen.run(..., force=True)"),
@@ -33,6 +38,9 @@ def option(name: str) -> str:
 class MazeError(Exception):
     """A user-facing error with an optional source location.
 
+    The message and the file name are made printable (control characters escaped, the message
+    cut to :data:`MESSAGE_LIMIT`), so an error is always one short line whatever the input held.
+
     Args:
         message: What is wrong, in one line.
         filename: File the error is in, if any.
@@ -43,6 +51,7 @@ class MazeError(Exception):
     def __init__(
         self, message: str, *, filename: str | None = None, line: int | None = None, col: int | None = None
     ) -> None:
+        message = printable(message, limit=MESSAGE_LIMIT)
         super().__init__(message)
         self.message = message
         self.filename = filename
@@ -56,5 +65,6 @@ class MazeError(Exception):
         """The error in one line, naming options as the command line or the Python API spells them."""
         spelling = 0 if command_line else 1
         message = _OPTION.sub(lambda found: SPELLINGS.get(found[1], (found[0],) * 2)[spelling], self.message)
-        where = [str(part) for part in (self.filename, self.line, self.col) if part is not None]
+        filename = None if self.filename is None else printable(self.filename)
+        where = [str(part) for part in (filename, self.line, self.col) if part is not None]
         return ":".join([*where, " " + message]) if where else message

@@ -12,6 +12,7 @@ from mazegen.cli.errors import reports_errors
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
 from mazegen.spec import Evolution
+from mazegen.text import printable
 
 _SEPARATOR = re.compile(r"[\s,]+")
 
@@ -96,6 +97,6 @@ def map_command(
                 )
             )
         elif result.valid:
-            click.echo(f"{result.phenotype}\t{result.used_codons} codons")
+            click.echo(f"{printable(result.phenotype or '')}\t{result.used_codons} codons")
         else:
             click.echo(f"invalid\t{result.used_codons} codons")

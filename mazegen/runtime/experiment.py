@@ -26,6 +26,7 @@ from mazegen.runtime.rejections import why_no_scenario
 from mazegen.runtime.results import json_text
 from mazegen.runtime.worker import BuildFiles
 from mazegen.spec import EVOLUTION_BOUNDS, Spec, out_of_bounds
+from mazegen.text import printable
 
 BUILD_FILES = ("spec.json", "grammar.bnf", "fitness.py", "experiment.py")
 
@@ -110,7 +111,7 @@ def summary_lines(outcome: ExperimentResult) -> list[str]:
             top = documents[0]
             lines.append(
                 f"run {number}: best fitness {top['fitness']:g}, {len(top['elements'])} elements: "
-                f"{top['phenotype']}"
+                f"{printable(top['phenotype'])}"  # the grammar's text: control characters too
             )
             continue
         why = [] if outcome.run_dir is None else why_no_scenario(outcome.run_dir, number)
