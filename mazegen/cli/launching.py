@@ -10,6 +10,8 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
+from mazegen.cli.bounds import CHECKPOINT_EVERY, WORKERS, within
+
 if TYPE_CHECKING:
     from mazegen.runtime.problem import Problem
     from mazegen.runtime.progress import Reporter
@@ -32,14 +34,14 @@ def launch_options(command: F) -> F:
             help="Where runs execute: local worker processes, this process, or a Dask cluster.",
         ),
         click.option(
-            "--workers", type=click.IntRange(min=1), help="Local worker processes (default: the cores)."
+            "--workers", type=within(*WORKERS), help="Local worker processes (default: the cores)."
         ),
         click.option(
             "--scheduler", metavar="tcp://HOST:PORT", help="The Dask scheduler (with --executor dask)."
         ),
         click.option(
             "--checkpoint-every",
-            type=click.IntRange(min=0),
+            type=within(*CHECKPOINT_EVERY),
             metavar="K",
             help="Checkpoint every K generations (0: never; default: every 30 s and the last generation).",
         ),
