@@ -35,7 +35,11 @@ class Bounded(click.ParamType):
     """
 
     def __init__(
-        self, kind: type[int] | type[float], check: Callable[[Any], bool], bounds: str, what: str | None = None
+        self,
+        kind: type[int] | type[float],
+        check: Callable[[Any], bool],
+        bounds: str,
+        what: str | None = None,
     ) -> None:
         self.kind, self.check, self.bounds, self.what = kind, check, bounds, what
         self.name = "integer" if kind is int else "number"

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 import click
 
 from mazegen.cli.bounds import CHECKPOINT_EVERY, WORKERS, within
+from mazegen.errors import MazeError
 
 if TYPE_CHECKING:
     from mazegen.runtime.problem import Problem
@@ -33,9 +34,7 @@ def launch_options(command: F) -> F:
             show_default=True,
             help="Where runs execute: local worker processes, this process, or a Dask cluster.",
         ),
-        click.option(
-            "--workers", type=within(*WORKERS), help="Local worker processes (default: the cores)."
-        ),
+        click.option("--workers", type=within(*WORKERS), help="Local worker processes (default: the cores)."),
         click.option(
             "--scheduler", metavar="tcp://HOST:PORT", help="The Dask scheduler (with --executor dask)."
         ),
@@ -58,7 +57,13 @@ def launch_options(command: F) -> F:
 
 
 def launch_settings(options: dict[str, Any]) -> dict[str, Any]:
-    """The keyword arguments of :func:`mazegen.api.run` that :func:`launch_options` collected."""
+    """The keyword arguments of :func:`mazegen.api.run` that :func:`launch_options` collected.
+
+    Raises:
+        MazeError: for ``--workers`` without local worker processes to count.
+    """
+    if options["workers"] is not None and options["executor"] != "local":
+        raise MazeError(f"--workers goes with --executor local, not {options['executor']}")
     return {
         "executor": options["executor"],
         "workers": options["workers"],

@@ -44,9 +44,7 @@ COLUMNS = (
     help="fitness, elements, run, rank, seed, population, generations, or a metric (difficulty, ...).",
 )
 @click.option("--ascending", is_flag=True, help="Smallest first (default: largest first).")
-@click.option(
-    "--limit", type=within(1, 2**63 - 1), help="At most this many scenarios (SQLite's integers)."
-)
+@click.option("--limit", type=within(1, 2**63 - 1), help="At most this many scenarios (SQLite's integers).")
 @click.option("--paths", is_flag=True, help="Print only the scenario files' paths, one per line.")
 @reports_errors
 def scenarios(

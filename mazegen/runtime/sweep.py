@@ -88,7 +88,9 @@ class Axis:
             except ValueError:
                 raise MazeError(f"--set {name}: '{part}' is not a valid value") from None
             if len(values) > MAX_CELLS:
-                raise MazeError(f"--set {name}: more than {MAX_CELLS} values; a sweep has at most {MAX_CELLS} cells")
+                raise MazeError(
+                    f"--set {name}: more than {MAX_CELLS} values; a sweep has at most {MAX_CELLS} cells"
+                )
         for value in values:
             if isinstance(value, float) and not math.isfinite(value):
                 raise MazeError(f"--set {name}: {value} must be a finite number, {setting.bounds}")

@@ -13,16 +13,29 @@ SEED_MAX = "9223372036854775807"
 HUGE = "99999999999999999999"
 
 BAD_COMMAND_LINES = [
-    (["run", FACTORY, "--seed", "9223372036854775808"], f"--seed must be from 0 to {SEED_MAX}, got 9223372036854775808"),
+    (
+        ["run", FACTORY, "--seed", "9223372036854775808"],
+        f"--seed must be from 0 to {SEED_MAX}, got 9223372036854775808",
+    ),
     (["run", FACTORY, "--seed", "-1"], f"--seed must be from 0 to {SEED_MAX}, got -1"),
     (["run", FACTORY, "--population", "100000000"], "--population must be from 1 to 1000000, got 100000000"),
     (["run", FACTORY, "--population", "0"], "--population must be from 1 to 1000000, got 0"),
-    (["run", FACTORY, "--generations", "99999999999"], "--generations must be from 0 to 1000000, got 99999999999"),
+    (
+        ["run", FACTORY, "--generations", "99999999999"],
+        "--generations must be from 0 to 1000000, got 99999999999",
+    ),
     (["run", FACTORY, "--runs", HUGE], f"--runs must be from 1 to 10000, got {HUGE}"),
     (["run", FACTORY, "--workers", HUGE], f"--workers must be from 1 to 1024, got {HUGE}"),
     (["run", FACTORY, "--workers", "0"], "--workers must be from 1 to 1024, got 0"),
-    (["run", FACTORY, "--checkpoint-every", HUGE], f"--checkpoint-every must be from 0 to 1000000, got {HUGE}"),
+    (
+        ["run", FACTORY, "--checkpoint-every", HUGE],
+        f"--checkpoint-every must be from 0 to 1000000, got {HUGE}",
+    ),
     (["resume", str(EXAMPLES), "--workers", "0"], "--workers must be from 1 to 1024, got 0"),
+    (
+        ["run", FACTORY, "--workers", "2", "--executor", "serial"],
+        "--workers goes with --executor local, not serial",
+    ),
     (["suite", FACTORY, "--size", HUGE], f"--size must be from 1 to 10000, got {HUGE}"),
     (["suite", FACTORY, "--iterations", HUGE], f"--iterations must be from 0 to 1000000, got {HUGE}"),
     (["suite", FACTORY, "--batch", "1"], "--batch must be from 2 to 1000000, got 1"),
@@ -30,41 +43,81 @@ BAD_COMMAND_LINES = [
     (["map", FACTORY, "3", HUGE], f"codon must be from 0 to 2147483647, got {HUGE}"),
     (["map", FACTORY, "3", "--wraps", "101"], "--wraps must be from 0 to 100, got 101"),
     (["sweep", FACTORY, "--runs", HUGE], f"--runs must be from 1 to 10000, got {HUGE}"),
-    (["sweep", FACTORY, "--set", f"seed=1..{HUGE}"],
-     f"--set seed: 1..{HUGE} holds {HUGE} values; a sweep has at most 10000 cells"),
-    (["sweep", FACTORY, "--set", "seed=1..9999999"],
-     "--set seed: 1..9999999 holds 9999999 values; a sweep has at most 10000 cells"),
-    (["sweep", FACTORY, "--set", "seed=1..101", "--set", "population=1..100"],
-     "--set: 10100 cells; a sweep has at most 10000 cells"),
-    (["sweep", FACTORY, str(EXAMPLES / "workshop.maze"), "--set", "seed=1..5001"],
-     "--set: 2 specs x 5001 cells; a sweep has at most 10000 cells"),
+    (
+        ["sweep", FACTORY, "--set", f"seed=1..{HUGE}"],
+        f"--set seed: 1..{HUGE} holds {HUGE} values; a sweep has at most 10000 cells",
+    ),
+    (
+        ["sweep", FACTORY, "--set", "seed=1..9999999"],
+        "--set seed: 1..9999999 holds 9999999 values; a sweep has at most 10000 cells",
+    ),
+    (
+        ["sweep", FACTORY, "--set", "seed=1..101", "--set", "population=1..100"],
+        "--set: 10100 cells; a sweep has at most 10000 cells",
+    ),
+    (
+        ["sweep", FACTORY, str(EXAMPLES / "workshop.maze"), "--set", "seed=1..5001"],
+        "--set: 2 specs x 5001 cells; a sweep has at most 10000 cells",
+    ),
     (["sweep", FACTORY, "--set", f"seed={HUGE}"], f"--set seed: {HUGE} must be from 0 to {SEED_MAX}"),
-    (["sweep", FACTORY, "--set", "fitness.overlap=inf"], "--set fitness.overlap: inf must be a finite number"),
-    (["sweep", FACTORY, "--set", "fitness.overlap=nan"], "--set fitness.overlap: nan must be a finite number"),
+    (
+        ["sweep", FACTORY, "--set", "fitness.overlap=inf"],
+        "--set fitness.overlap: inf must be a finite number",
+    ),
+    (
+        ["sweep", FACTORY, "--set", "fitness.overlap=nan"],
+        "--set fitness.overlap: nan must be a finite number",
+    ),
     (["sweep", FACTORY, "--set", "mutation=nan"], "--set mutation: nan must be a finite number"),
-    (["sweep", FACTORY, "--set", "seed=1,2", "--set", "seed=3"],
-     "--set seed is given twice (give all its values in one --set)"),
-    (["sweep", FACTORY, "--set", "fitness.solvable=0,1"],
-     "--set fitness.solvable: cells factory-solvable0 and factory-solvable1 would run the same experiment"),
+    (
+        ["sweep", FACTORY, "--set", "seed=1,2", "--set", "seed=3"],
+        "--set seed is given twice (give all its values in one --set)",
+    ),
+    (
+        ["sweep", FACTORY, "--set", "fitness.solvable=0,1"],
+        "--set fitness.solvable: cells factory-solvable0 and factory-solvable1 would run the same experiment",
+    ),
     (["scenarios", "--limit", HUGE], f"--limit must be from 1 to {SEED_MAX}, got {HUGE}"),
     (["scenarios", "--min-elements", HUGE], f"--min-elements must be from 0 to 1000000, got {HUGE}"),
-    (["scenarios", "--where", "difficulty>=nan"], "condition 'difficulty>=nan': 'nan' is not a finite number"),
-    (["export", FACTORY, "-f", "svg", "--cell", "5"], "--cell does not apply to svg exports (only to ros, movingai)"),
-    (["export", FACTORY, "-f", "gazebo", "--cell", "5"],
-     "--cell does not apply to gazebo exports (only to ros, movingai)"),
-    (["export", FACTORY, "-f", "movingai", "--scale", "1"],
-     "--scale does not apply to movingai exports (only to ros, gazebo)"),
-    (["export", FACTORY, "-f", "png", "--scale", "1"], "--scale does not apply to png exports (only to ros, gazebo)"),
-    (["export", FACTORY, "-f", "gazebo", "--scale", "1e9"],
-     "--scale must be from 1e-06 to 1000 metres per arena unit, got 1e+09"),
-    (["export", FACTORY, "-f", "gazebo", "--scale", "inf"],
-     "--scale must be from 1e-06 to 1000 metres per arena unit, got inf"),
-    (["export", FACTORY, "-f", "ros", "--cell", "nan"], "--cell must be a positive number of arena units, got nan"),
-]  # fmt: skip
+    (
+        ["scenarios", "--where", "difficulty>=nan"],
+        "condition 'difficulty>=nan': 'nan' is not a finite number",
+    ),
+    (
+        ["export", FACTORY, "-f", "svg", "--cell", "5"],
+        "--cell does not apply to svg exports (only to ros, movingai)",
+    ),
+    (
+        ["export", FACTORY, "-f", "gazebo", "--cell", "5"],
+        "--cell does not apply to gazebo exports (only to ros, movingai)",
+    ),
+    (
+        ["export", FACTORY, "-f", "movingai", "--scale", "1"],
+        "--scale does not apply to movingai exports (only to ros, gazebo)",
+    ),
+    (
+        ["export", FACTORY, "-f", "png", "--scale", "1"],
+        "--scale does not apply to png exports (only to ros, gazebo)",
+    ),
+    (
+        ["export", FACTORY, "-f", "gazebo", "--scale", "1e9"],
+        "--scale must be from 1e-06 to 1000 metres per arena unit, got 1e+09",
+    ),
+    (
+        ["export", FACTORY, "-f", "gazebo", "--scale", "inf"],
+        "--scale must be from 1e-06 to 1000 metres per arena unit, got inf",
+    ),
+    (
+        ["export", FACTORY, "-f", "ros", "--cell", "nan"],
+        "--cell must be a positive number of arena units, got nan",
+    ),
+]
 """Known-bad command lines and the one line each must give (the source need not be read to refuse them)."""
 
 
-@pytest.mark.parametrize(("args", "message"), BAD_COMMAND_LINES, ids=[" ".join(args[2:]) for args, _ in BAD_COMMAND_LINES])
+@pytest.mark.parametrize(
+    ("args", "message"), BAD_COMMAND_LINES, ids=[" ".join(args[2:]) for args, _ in BAD_COMMAND_LINES]
+)
 def test_bad_command_lines_are_one_line_errors(tmp_path, monkeypatch, args, message):
     monkeypatch.chdir(tmp_path)  # nothing may be written; if something is, it stays in tmp_path
     result = CliRunner().invoke(main, args)
@@ -78,7 +131,9 @@ def test_bad_command_lines_are_one_line_errors(tmp_path, monkeypatch, args, mess
 def test_too_many_codons_for_the_population_is_one_line(tmp_path, write_spec):
     text = (EXAMPLES / "factory.maze").read_text().replace("genome 32", "genome 10000")
     spec = write_spec(text, "big.maze")
-    result = CliRunner().invoke(main, ["run", str(spec), "--population", "20000", "-q", "-o", str(tmp_path / "r")])
+    result = CliRunner().invoke(
+        main, ["run", str(spec), "--population", "20000", "-q", "-o", str(tmp_path / "r")]
+    )
     assert result.exit_code == 1, result.output
     assert result.stderr.splitlines() == [
         "--population 20000: population x genome must be at most 100000000 codons, got 20000 x 10000"

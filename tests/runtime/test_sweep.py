@@ -117,9 +117,9 @@ def test_a_setting_is_given_in_one_set():
 
 def test_cells_are_counted_before_they_are_made(tmp_path):
     axes = [Axis("seed", tuple(range(MAX_CELLS))), Axis("generations", (1, 2))]
-    with pytest.raises(MazeError, match="^--set: 20000 cells; a sweep has at most 10000 cells$"):
+    with pytest.raises(MazeError, match=r"^--set: 20000 cells; a sweep has at most 10000 cells$"):
         plan_cells([FACTORY], axes, tmp_path, force=False)
-    with pytest.raises(MazeError, match="^--set: 2 specs x 10000 cells; a sweep has at most 10000 cells$"):
+    with pytest.raises(MazeError, match=r"^--set: 2 specs x 10000 cells; a sweep has at most 10000 cells$"):
         plan_cells([FACTORY, FACTORY], axes[:1], tmp_path, force=False)
     assert len(Axis.parse(f"seed=1..{MAX_CELLS}").values) == MAX_CELLS
 
@@ -127,7 +127,9 @@ def test_cells_are_counted_before_they_are_made(tmp_path):
 def test_a_setting_that_changes_nothing_is_refused(tmp_path):
     """The weight of a term that rejects (``solvable required``) is in no fitness: both cells would be one."""
     with pytest.raises(MazeError) as error:
-        plan_cells([FACTORY], [Axis("seed", (1, 2)), Axis("fitness.solvable", (0.0, 1.0))], tmp_path, force=False)
+        plan_cells(
+            [FACTORY], [Axis("seed", (1, 2)), Axis("fitness.solvable", (0.0, 1.0))], tmp_path, force=False
+        )
     assert str(error.value) == (
         "--set fitness.solvable: cells factory-seed1-solvable0 and factory-seed1-solvable1 "
         "would run the same experiment (the setting changes nothing there)"
