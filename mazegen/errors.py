@@ -25,3 +25,10 @@ class MazeError(Exception):
     def __str__(self) -> str:
         where = [str(part) for part in (self.filename, self.line, self.col) if part is not None]
         return ":".join([*where, " " + self.message]) if where else self.message
+
+
+def brief(text: object, limit: int = 40) -> str:
+    """``text`` as a message quotes it: cut to ``limit`` characters, so a 5,000-digit number or a
+    100 KB token does not flood the one line of an error."""
+    shown = str(text)
+    return shown if len(shown) <= limit else shown[: limit - 1] + "…"

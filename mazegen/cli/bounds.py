@@ -14,7 +14,7 @@ from typing import Any
 
 import click
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, brief
 from mazegen.spec import EVOLUTION_BOUNDS, Evolution
 
 WORKERS = (1, 1024)
@@ -48,9 +48,9 @@ class Bounded(click.ParamType):
         try:
             number = self.kind(value)
         except (TypeError, ValueError):
-            self.fail(f"{value!r} is not a valid {self.name}", param, ctx)
-        if not (math.isfinite(number) and self.check(number)):
-            raise MazeError(f"{self.what or _option_name(param)} must be {self.bounds}, got {value}")
+            self.fail(f"'{brief(value)}' is not a valid {self.name}", param, ctx)
+        if (isinstance(number, float) and not math.isfinite(number)) or not self.check(number):
+            raise MazeError(f"{self.what or _option_name(param)} must be {self.bounds}, got {brief(value)}")
         return number
 
 

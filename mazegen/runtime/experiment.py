@@ -18,7 +18,7 @@ import numba
 import numpy as np
 
 from mazegen import __version__
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, brief
 from mazegen.runtime.launcher import ExperimentResult, Job, RunsInterrupted, run_jobs
 from mazegen.runtime.problem import Problem
 from mazegen.runtime.progress import reporter_for
@@ -101,7 +101,7 @@ def with_overrides(spec: Spec, **overrides: Any) -> Spec:
     for key, value in given.items():
         problem = out_of_bounds(key, value) if key in EVOLUTION_BOUNDS else None
         if problem is not None:
-            raise MazeError(f"--{key} {problem}, got {value}")
+            raise MazeError(f"--{key} {problem}, got {brief(value)}")
     try:
         spec = spec.with_evolution(**given)
     except ValueError as error:  # settings within bounds alone but not together (population x genome)

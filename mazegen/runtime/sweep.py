@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, brief
 from mazegen.generator.build import fitness_lines
 from mazegen.spec import EVOLUTION_BOUNDS, Evolution, Spec
 
@@ -65,11 +65,13 @@ class Axis:
         name, equals, raw = text.partition("=")
         name = name.strip()
         if not equals or not raw.strip():
-            raise MazeError(f"cannot read --set '{text}' (write NAME=VALUES, e.g. population=500,1000)")
+            raise MazeError(
+                f"cannot read --set '{brief(text)}' (write NAME=VALUES, e.g. population=500,1000)"
+            )
         setting = _WEIGHT if name.startswith(FITNESS) and len(name) > len(FITNESS) else _SETTINGS.get(name)
         if setting is None:
             known = ", ".join([*_SETTINGS, f"{FITNESS}TERM"])
-            raise MazeError(f"cannot sweep '{name}' (known: {known})")
+            raise MazeError(f"cannot sweep '{brief(name)}' (known: {known})")
         values: list[Value] = []
         for part in raw.split(","):
             part = part.strip()
@@ -79,14 +81,14 @@ class Axis:
                     low, high = int(span[1]), int(span[2])
                     if high - low + 1 > MAX_CELLS:  # before it is made: seed=1..99999999999999999999
                         raise MazeError(
-                            f"--set {name}: {part} holds {high - low + 1} values; "
+                            f"--set {name}: {brief(part)} holds {brief(high - low + 1)} values; "
                             f"a sweep has at most {MAX_CELLS} cells"
                         )
                     values += range(low, high + 1)
                 else:
                     values.append(setting.kind(part))
             except ValueError:
-                raise MazeError(f"--set {name}: '{part}' is not a valid value") from None
+                raise MazeError(f"--set {name}: '{brief(part)}' is not a valid value") from None
             if len(values) > MAX_CELLS:
                 raise MazeError(
                     f"--set {name}: more than {MAX_CELLS} values; a sweep has at most {MAX_CELLS} cells"
@@ -95,7 +97,7 @@ class Axis:
             if isinstance(value, float) and not math.isfinite(value):
                 raise MazeError(f"--set {name}: {value} must be a finite number, {setting.bounds}")
             if not setting.check(value):
-                raise MazeError(f"--set {name}: {value} must be {setting.bounds}")
+                raise MazeError(f"--set {name}: {brief(value)} must be {setting.bounds}")
         if not values:
             raise MazeError(f"--set {name}: empty range '{raw}'")
         if len(set(values)) != len(values):

@@ -11,6 +11,8 @@ from tests.conftest import EXAMPLES
 FACTORY = str(EXAMPLES / "factory.maze")
 SEED_MAX = "9223372036854775807"
 HUGE = "99999999999999999999"
+DIGITS_400 = "1" + "0" * 400
+"""More digits than a float holds: still one short line."""
 
 BAD_COMMAND_LINES = [
     (
@@ -36,6 +38,10 @@ BAD_COMMAND_LINES = [
         ["run", FACTORY, "--workers", "2", "--executor", "serial"],
         "--workers goes with --executor local, not serial",
     ),
+    (
+        ["run", FACTORY, "--seed", DIGITS_400],
+        f"--seed must be from 0 to {SEED_MAX}, got 100000000000000000000000000000000000000…",
+    ),
     (["suite", FACTORY, "--size", HUGE], f"--size must be from 1 to 10000, got {HUGE}"),
     (["suite", FACTORY, "--iterations", HUGE], f"--iterations must be from 0 to 1000000, got {HUGE}"),
     (["suite", FACTORY, "--batch", "1"], "--batch must be from 2 to 1000000, got 1"),
@@ -60,6 +66,10 @@ BAD_COMMAND_LINES = [
         "--set: 2 specs x 5001 cells; a sweep has at most 10000 cells",
     ),
     (["sweep", FACTORY, "--set", f"seed={HUGE}"], f"--set seed: {HUGE} must be from 0 to {SEED_MAX}"),
+    (
+        ["sweep", FACTORY, "--set", f"seed={DIGITS_400}"],
+        f"--set seed: 100000000000000000000000000000000000000… must be from 0 to {SEED_MAX}",
+    ),
     (
         ["sweep", FACTORY, "--set", "fitness.overlap=inf"],
         "--set fitness.overlap: inf must be a finite number",
