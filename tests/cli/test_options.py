@@ -11,6 +11,8 @@ from tests.conftest import EXAMPLES
 FACTORY = str(EXAMPLES / "factory.maze")
 SEED_MAX = "9223372036854775807"
 HUGE = "99999999999999999999"
+EXPORT = ["export", FACTORY, "-f"]
+SCALES = "from 1e-06 to 1000 metres per arena unit"
 DIGITS_400 = "1" + "0" * 400
 """More digits than a float holds: still one short line."""
 
@@ -93,34 +95,16 @@ BAD_COMMAND_LINES = [
         ["scenarios", "--where", "difficulty>=nan"],
         "condition 'difficulty>=nan': 'nan' is not a finite number",
     ),
+    ([*EXPORT, "svg", "--cell", "5"], "--cell does not apply to svg exports (only to ros, movingai)"),
+    ([*EXPORT, "gazebo", "--cell", "5"], "--cell does not apply to gazebo exports (only to ros, movingai)"),
     (
-        ["export", FACTORY, "-f", "svg", "--cell", "5"],
-        "--cell does not apply to svg exports (only to ros, movingai)",
-    ),
-    (
-        ["export", FACTORY, "-f", "gazebo", "--cell", "5"],
-        "--cell does not apply to gazebo exports (only to ros, movingai)",
-    ),
-    (
-        ["export", FACTORY, "-f", "movingai", "--scale", "1"],
+        [*EXPORT, "movingai", "--scale", "1"],
         "--scale does not apply to movingai exports (only to ros, gazebo)",
     ),
-    (
-        ["export", FACTORY, "-f", "png", "--scale", "1"],
-        "--scale does not apply to png exports (only to ros, gazebo)",
-    ),
-    (
-        ["export", FACTORY, "-f", "gazebo", "--scale", "1e9"],
-        "--scale must be from 1e-06 to 1000 metres per arena unit, got 1e+09",
-    ),
-    (
-        ["export", FACTORY, "-f", "gazebo", "--scale", "inf"],
-        "--scale must be from 1e-06 to 1000 metres per arena unit, got inf",
-    ),
-    (
-        ["export", FACTORY, "-f", "ros", "--cell", "nan"],
-        "--cell must be a positive number of arena units, got nan",
-    ),
+    ([*EXPORT, "png", "--scale", "1"], "--scale does not apply to png exports (only to ros, gazebo)"),
+    ([*EXPORT, "gazebo", "--scale", "1e9"], f"--scale must be {SCALES}, got 1e+09"),
+    ([*EXPORT, "gazebo", "--scale", "inf"], f"--scale must be {SCALES}, got inf"),
+    ([*EXPORT, "ros", "--cell", "nan"], "--cell must be a positive number of arena units, got nan"),
 ]
 """Known-bad command lines and the one line each must give (the source need not be read to refuse them)."""
 
