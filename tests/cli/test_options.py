@@ -133,3 +133,12 @@ def test_too_many_codons_for_the_population_is_one_line(tmp_path, write_spec):
         "--population 20000: population x genome must be at most 100000000 codons, got 20000 x 10000"
     ]
     assert not (tmp_path / "r").exists()
+
+
+def test_codons_of_a_genomes_file_are_bounded_at_their_line(tmp_path):
+    genomes = tmp_path / "genomes.txt"
+    genomes.write_text(f"3 4 5\n3 {HUGE} 5\n")
+    result = CliRunner().invoke(main, ["map", FACTORY, "--genomes", str(genomes)])
+    assert not isinstance(result.exception, Exception), result.exception
+    assert result.exit_code == 1
+    assert result.stderr.splitlines() == [f"{genomes}:2:1: codons must be from 0 to 2147483647"]
