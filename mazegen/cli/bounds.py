@@ -54,6 +54,16 @@ class Bounded(click.ParamType):
         return number
 
 
+class BoundedOption(click.Option):
+    """An option whose help shows its :class:`Bounded` type's bounds, as click shows an ``IntRange``'s."""
+
+    def get_help_extra(self, ctx: click.Context) -> Any:
+        extra = super().get_help_extra(ctx)
+        if isinstance(self.type, Bounded):
+            extra["range"] = self.type.bounds
+        return extra
+
+
 def _option_name(param: click.Parameter | None) -> str:
     """``--checkpoint-every`` rather than ``-c``: the longest of the option's names."""
     return max(param.opts, key=len) if param is not None else "value"

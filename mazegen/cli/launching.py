@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
-from mazegen.cli.bounds import CHECKPOINT_EVERY, WORKERS, within
+from mazegen.cli.bounds import CHECKPOINT_EVERY, WORKERS, BoundedOption, within
 from mazegen.errors import MazeError
 
 if TYPE_CHECKING:
@@ -34,13 +34,19 @@ def launch_options(command: F) -> F:
             show_default=True,
             help="Where runs execute: local worker processes, this process, or a Dask cluster.",
         ),
-        click.option("--workers", type=within(*WORKERS), help="Local worker processes (default: the cores)."),
+        click.option(
+            "--workers",
+            type=within(*WORKERS),
+            cls=BoundedOption,
+            help="Local worker processes (default: the cores).",
+        ),
         click.option(
             "--scheduler", metavar="tcp://HOST:PORT", help="The Dask scheduler (with --executor dask)."
         ),
         click.option(
             "--checkpoint-every",
             type=within(*CHECKPOINT_EVERY),
+            cls=BoundedOption,
             metavar="K",
             help="Checkpoint every K generations (0: never; default: every 30 s and the last generation).",
         ),

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import click
 
-from mazegen.cli.bounds import setting, within
+from mazegen.cli.bounds import BoundedOption, setting, within
 from mazegen.cli.errors import reports_errors
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
@@ -46,6 +46,7 @@ def _genomes(path: Path) -> list[tuple[int, list[int]]]:
 @click.option(
     "--wraps",
     type=setting("wraps"),
+    cls=BoundedOption,
     help="Extra passes over the genome.  [default: the spec's, else 0]",
 )
 @click.option(

@@ -7,17 +7,19 @@ from typing import Any
 
 import click
 
-from mazegen.cli.bounds import setting
+from mazegen.cli.bounds import BoundedOption, setting
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import compile_first, launch_options, launch_settings, reports_interruption
 
 
 @click.command()
 @click.argument("source", type=click.Path(exists=True, path_type=Path))
-@click.option("--seed", type=setting("seed"), help="Seed of the experiment (overrides the spec).")
-@click.option("--runs", type=setting("runs"), help="Number of runs.")
-@click.option("--population", type=setting("population"), help="Population size.")
-@click.option("--generations", type=setting("generations"), help="Number of generations.")
+@click.option(
+    "--seed", type=setting("seed"), cls=BoundedOption, help="Seed of the experiment (overrides the spec)."
+)
+@click.option("--runs", type=setting("runs"), cls=BoundedOption, help="Number of runs.")
+@click.option("--population", type=setting("population"), cls=BoundedOption, help="Population size.")
+@click.option("--generations", type=setting("generations"), cls=BoundedOption, help="Number of generations.")
 @click.option(
     "-o",
     "--out",

@@ -6,22 +6,33 @@ from pathlib import Path
 
 import click
 
-from mazegen.cli.bounds import setting, within
+from mazegen.cli.bounds import BoundedOption, setting, within
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import compile_first
 
 
 @click.command()
 @click.argument("spec", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option("--size", type=within(1, 10_000), default=20, show_default=True, help="Scenarios to write.")
-@click.option("--seed", type=setting("seed"), help="Seed (default: the spec's).")
+@click.option(
+    "--size",
+    type=within(1, 10_000),
+    cls=BoundedOption,
+    default=20,
+    show_default=True,
+    help="Scenarios to write.",
+)
+@click.option("--seed", type=setting("seed"), cls=BoundedOption, help="Seed (default: the spec's).")
 @click.option(
     "--iterations",
     type=setting("generations"),
+    cls=BoundedOption,
     help="Batches bred from the archive (default: the spec's generations).",
 )
 @click.option(
-    "--batch", type=within(2, 1_000_000), help="Scenarios per batch (default: the spec's population)."
+    "--batch",
+    type=within(2, 1_000_000),
+    cls=BoundedOption,
+    help="Scenarios per batch (default: the spec's population).",
 )
 @click.option(
     "-o",

@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from mazegen.cli.bounds import setting
+from mazegen.cli.bounds import BoundedOption, setting
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import launch_options, launch_settings, reports_interruption
 
@@ -23,7 +23,7 @@ from mazegen.cli.launching import launch_options, launch_settings, reports_inter
     metavar="NAME=VALUES",
     help="A swept setting: population=500,1000  seed=1..3  fitness.overlap=0.25,0.5 (repeatable).",
 )
-@click.option("--runs", type=setting("runs"), help="Runs per cell (overrides the specs).")
+@click.option("--runs", type=setting("runs"), cls=BoundedOption, help="Runs per cell (overrides the specs).")
 @click.option(
     "-o",
     "--out",

@@ -142,3 +142,9 @@ def test_codons_of_a_genomes_file_are_bounded_at_their_line(tmp_path):
     assert not isinstance(result.exception, Exception), result.exception
     assert result.exit_code == 1
     assert result.stderr.splitlines() == [f"{genomes}:2:1: codons must be from 0 to 2147483647"]
+
+
+def test_help_shows_the_bounds():
+    shown = " ".join(CliRunner().invoke(main, ["run", "-h"]).output.split())
+    assert f"Seed of the experiment (overrides the spec). [from 0 to {SEED_MAX}]" in shown
+    assert "Local worker processes (default: the cores). [from 1 to 1024]" in shown
