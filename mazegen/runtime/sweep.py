@@ -177,12 +177,16 @@ def apply_cell(spec: Spec, cell: dict[str, Value]) -> Spec:
     return swept
 
 
+def _text(value: Value) -> str:
+    """A value as names and messages write it: ``0.5``, ``0`` for ``0.0``."""
+    return f"{value:g}" if isinstance(value, float) else str(value)
+
+
 def cell_name(scenario: str, cell: dict[str, Value]) -> str:
     """A cell's run directory name: the scenario, then each swept setting and its value."""
     parts = [scenario]
     for name, value in cell.items():
-        text = f"{value:g}" if isinstance(value, float) else str(value)
-        parts.append(_NAME.sub("_", name.removeprefix(FITNESS) + text))
+        parts.append(_NAME.sub("_", name.removeprefix(FITNESS) + _text(value)))
     return "-".join(parts)
 
 
@@ -216,7 +220,7 @@ def plan_cells(specs: list[Spec], axes: list[Axis], out_dir: Path, *, force: boo
         made: dict[tuple[Any, ...], dict[str, Value]] = {}
         for settings in grid(axes):
             swept = apply_cell(spec, settings)
-            _check_changes(spec.name, made, swept, settings)
+            _check_changes(spec, made, swept, settings)
             run_dir = out_dir / cell_name(spec.name, settings)
             cells.append(Cell(swept, settings, run_dir, "new" if force else _state(run_dir, swept)))
     names = [cell.run_dir.name for cell in cells]
@@ -226,22 +230,38 @@ def plan_cells(specs: list[Spec], axes: list[Axis], out_dir: Path, *, force: boo
 
 
 def _check_changes(
-    scenario: str, made: dict[tuple[Any, ...], dict[str, Value]], swept: Spec, settings: dict[str, Value]
+    spec: Spec, made: dict[tuple[Any, ...], dict[str, Value]], swept: Spec, settings: dict[str, Value]
 ) -> None:
-    """Refuse a cell that would run the experiment of an earlier one (``made``, by what runs).
+    """Refuse a cell where a setting changes nothing, or that would run the experiment of an
+    earlier cell (``made``, by what runs).
 
     What runs is the fitness module and the evolution settings (a sweep changes nothing
-    else): a weight on a term that rejects, for one, changes neither.
+    else): the weight of a term that rejects (``solvable required``), for one, is in neither.
     """
-    penalised, rejecting = fitness_lines(swept)
-    runs = (tuple(penalised), tuple(rejecting), swept.evolution)
+    runs = _what_runs(swept)
+    for name, value in settings.items():
+        try:
+            without = apply_cell(spec, {other: v for other, v in settings.items() if other != name})
+        except MazeError:
+            continue  # the other settings need this one (an elitism below a swept population)
+        if without != swept and _what_runs(without) == runs:
+            raise MazeError(
+                f"--set {name}={brief(_text(value))} changes nothing in spec '{spec.name}' "
+                "(it runs the same experiment as without it)"
+            )
     earlier = made.setdefault(runs, settings)
     if earlier is not settings:
         names = ", ".join(name for name in settings if settings[name] != earlier[name])
         raise MazeError(
-            f"--set {names}: cells {cell_name(scenario, earlier)} and {cell_name(scenario, settings)} "
-            "would run the same experiment (the setting changes nothing there)"
+            f"--set {names}: cells {cell_name(spec.name, earlier)} and {cell_name(spec.name, settings)} "
+            "would run the same experiment"
         )
+
+
+def _what_runs(spec: Spec) -> tuple[Any, ...]:
+    """What a run of ``spec`` depends on that a sweep can change: fitness lines and evolution settings."""
+    penalised, rejecting = fitness_lines(spec)
+    return (tuple(penalised), tuple(rejecting), spec.evolution)
 
 
 def _state(run_dir: Path, spec: Spec) -> str:

@@ -87,7 +87,7 @@ BAD_COMMAND_LINES = [
     ),
     (
         ["sweep", FACTORY, "--set", "fitness.solvable=0,1"],
-        "--set fitness.solvable: cells factory-solvable0 and factory-solvable1 would run the same experiment",
+        "--set fitness.solvable=0 changes nothing in spec 'factory' (it runs the same experiment as without",
     ),
     (["scenarios", "--limit", HUGE], f"--limit must be from 1 to {SEED_MAX}, got {HUGE}"),
     (["scenarios", "--min-elements", HUGE], f"--min-elements must be from 0 to 1000000, got {HUGE}"),

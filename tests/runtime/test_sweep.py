@@ -125,17 +125,39 @@ def test_cells_are_counted_before_they_are_made(tmp_path):
 
 
 def test_a_setting_that_changes_nothing_is_refused(tmp_path):
-    """The weight of a term that rejects (``solvable required``) is in no fitness: both cells would be one."""
-    with pytest.raises(MazeError) as error:
-        plan_cells(
-            [FACTORY], [Axis("seed", (1, 2)), Axis("fitness.solvable", (0.0, 1.0))], tmp_path, force=False
+    """The weight of a term that rejects (``solvable required``) is in no fitness: the cells would be one."""
+    for values in ((0.0, 1.0), (5.0,)):
+        with pytest.raises(MazeError) as error:
+            plan_cells(
+                [FACTORY], [Axis("seed", (1, 2)), Axis("fitness.solvable", values)], tmp_path, force=False
+            )
+        assert str(error.value) == (
+            f"--set fitness.solvable={values[0]:g} changes nothing in spec 'factory' "
+            "(it runs the same experiment as without it)"
         )
-    assert str(error.value) == (
-        "--set fitness.solvable: cells factory-seed1-solvable0 and factory-seed1-solvable1 "
-        "would run the same experiment (the setting changes nothing there)"
-    )
     cells = plan_cells([FACTORY], [Axis("fitness.overlap", (0.0, 0.5))], tmp_path, force=False)
     assert [cell.run_dir.name for cell in cells] == ["factory-overlap0", "factory-overlap0.5"]
+    same = plan_cells(
+        [FACTORY], [Axis("population", (1000, 2000)), Axis("seed", (1, 2))], tmp_path, force=False
+    )
+    assert (
+        len(same) == 4 and same[0].spec == FACTORY
+    )  # the spec's own values change nothing, and are no mistake
+    needed = [Axis("population", (2000,)), Axis("elitism", (1500,))]  # elitism 1500 needs the population
+    assert plan_cells([FACTORY], needed, tmp_path, force=False)[0].spec.evolution.elitism == 1500
+
+
+def test_two_cells_that_run_one_experiment_are_refused(tmp_path, monkeypatch):
+    """Whatever the reason: here an experiment that depends on the sum of the seed and the generations."""
+    import mazegen.runtime.sweep as sweep
+
+    monkeypatch.setattr(sweep, "_what_runs", lambda spec: spec.evolution.seed + spec.evolution.generations)
+    with pytest.raises(MazeError) as error:
+        plan_cells([FACTORY], [Axis("seed", (1, 2)), Axis("generations", (2, 1))], tmp_path, force=False)
+    assert str(error.value) == (
+        "--set seed, generations: cells factory-seed1-generations2 and factory-seed2-generations1 "
+        "would run the same experiment"
+    )
 
 
 def test_a_cell_too_large_for_the_genome_is_one_line():
