@@ -39,6 +39,7 @@ class Bounded(click.ParamType):
         kind: type[int] | type[float],
         check: Callable[[Any], bool],
         bounds: str,
+        *,
         what: str | None = None,
     ) -> None:
         self.kind, self.check, self.bounds, self.what = kind, check, bounds, what
@@ -71,7 +72,7 @@ def _option_name(param: click.Parameter | None) -> str:
 
 def within(low: int, high: int, *, what: str | None = None) -> Bounded:
     """An integer from ``low`` to ``high``."""
-    return Bounded(int, lambda value: low <= value <= high, f"from {low} to {high}", what)
+    return Bounded(int, lambda value: low <= value <= high, f"from {low} to {high}", what=what)
 
 
 def setting(key: str) -> Bounded:

@@ -99,7 +99,7 @@ class Axis:
             if not setting.check(value):
                 raise MazeError(f"--set {name}: {brief(value)} must be {setting.bounds}")
         if not values:
-            raise MazeError(f"--set {name}: empty range '{raw}'")
+            raise MazeError(f"--set {name}: empty range '{brief(raw)}'")
         if len(set(values)) != len(values):
             raise MazeError(f"--set {name}: a value is given twice")
         return cls(name, tuple(values))
