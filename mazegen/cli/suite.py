@@ -9,6 +9,7 @@ import click
 from mazegen.cli.bounds import BoundedOption, setting, within
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import compile_first
+from mazegen.errors import MazeError
 
 
 @click.command()
@@ -64,6 +65,11 @@ def suite(
 
     resolved = load_spec(spec)
     settings = resolved.evolution
+    if batch is not None:  # a batch is bred as a population: it holds as many codons
+        try:
+            resolved.with_evolution(population=batch)
+        except ValueError as error:
+            raise MazeError(f"--batch {batch}: {error}") from None
     seed = settings.seed if seed is None else seed
     iterations = settings.generations if iterations is None else iterations
     batch = settings.population if batch is None else batch

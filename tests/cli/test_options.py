@@ -122,15 +122,17 @@ def test_bad_command_lines_are_one_line_errors(tmp_path, monkeypatch, args, mess
     assert list(tmp_path.iterdir()) == []
 
 
-def test_too_many_codons_for_the_population_is_one_line(tmp_path, write_spec):
+@pytest.mark.parametrize(
+    ("command", "option"), [("run", "--population"), ("suite", "--batch")], ids=["run", "suite"]
+)
+def test_too_many_codons_for_the_population_is_one_line(tmp_path, write_spec, command, option):
     text = (EXAMPLES / "factory.maze").read_text().replace("genome 32", "genome 10000")
     spec = write_spec(text, "big.maze")
-    result = CliRunner().invoke(
-        main, ["run", str(spec), "--population", "20000", "-q", "-o", str(tmp_path / "r")]
-    )
+    result = CliRunner().invoke(main, [command, str(spec), option, "20000", "-q", "-o", str(tmp_path / "r")])
+    assert not isinstance(result.exception, Exception), result.exception
     assert result.exit_code == 1, result.output
     assert result.stderr.splitlines() == [
-        "--population 20000: population x genome must be at most 100000000 codons, got 20000 x 10000"
+        f"{option} 20000: population x genome must be at most 100000000 codons, got 20000 x 10000"
     ]
     assert not (tmp_path / "r").exists()
 
