@@ -68,3 +68,9 @@ class MazeError(Exception):
         filename = None if self.filename is None else printable(self.filename)
         where = [str(part) for part in (filename, self.line, self.col) if part is not None]
         return ":".join([*where, " " + message]) if where else message
+
+
+def brief(text: object, limit: int = 40) -> str:
+    """``text`` as a message quotes it: printable and cut to ``limit`` characters, so a 5,000-digit
+    number or a 100 KB token does not flood the one line of an error."""
+    return printable(str(text), limit=limit)

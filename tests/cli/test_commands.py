@@ -240,7 +240,7 @@ def test_run_rejects_population_zero(tmp_path):
         "run", str(EXAMPLES / "factory.maze"), "--population", "0", "-q", "-o", str(tmp_path / "r")
     )
     assert result.exit_code == 1
-    assert result.stderr.strip() == "--population must be at least 1, got 0"
+    assert result.stderr.strip() == "--population must be from 1 to 1000000, got 0"
     assert not (tmp_path / "r").exists()
 
 
@@ -522,7 +522,7 @@ def test_an_edited_build_that_fails_gives_one_line_errors(tmp_path):
     result = invoke("run", str(build), "-q", "-o", str(tmp_path / "damaged"))
     assert result.exit_code == 1
     assert result.stderr.strip().endswith(
-        "damaged spec.json (ValueError: population must be at least 1, got -3)"
+        "damaged spec.json (ValueError: population must be from 1 to 1000000, got -3)"
     )
 
 
