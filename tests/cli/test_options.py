@@ -42,7 +42,7 @@ BAD_COMMAND_LINES = [
     ),
     (
         ["run", FACTORY, "--seed", DIGITS_400],
-        f"--seed must be from 0 to {SEED_MAX}, got 100000000000000000000000000000000000000…",
+        f"--seed must be from 0 to {SEED_MAX}, got 1000000000000000000000000000000000000000...",
     ),
     (["suite", FACTORY, "--size", HUGE], f"--size must be from 1 to 10000, got {HUGE}"),
     (["suite", FACTORY, "--iterations", HUGE], f"--iterations must be from 0 to 1000000, got {HUGE}"),
@@ -70,7 +70,7 @@ BAD_COMMAND_LINES = [
     (["sweep", FACTORY, "--set", f"seed={HUGE}"], f"--set seed: {HUGE} must be from 0 to {SEED_MAX}"),
     (
         ["sweep", FACTORY, "--set", f"seed={DIGITS_400}"],
-        f"--set seed: 100000000000000000000000000000000000000… must be from 0 to {SEED_MAX}",
+        f"--set seed: 1000000000000000000000000000000000000000... must be from 0 to {SEED_MAX}",
     ),
     (
         ["sweep", FACTORY, "--set", "fitness.overlap=inf"],
