@@ -1,21 +1,45 @@
 """MazeGen: robot-navigation scenarios from a small language, by grammatical evolution.
 
-The API (``load``, ``build``, ``run``, ``resume``, ``sweep``) lives in :mod:`mazegen.api`; it is imported
-on first use so that ``import mazegen`` stays light for the command line.
+The API (``load``, ``build``, ``run``, ``resume``, ``sweep``) lives in :mod:`mazegen.api`;
+it and the types it returns are imported on first use, so that ``import mazegen`` stays
+light for the command line.
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from mazegen.api import build, load, resume, run, sweep
+    from mazegen.errors import MazeError
+    from mazegen.runtime.runs.launcher import ExperimentResult
+    from mazegen.spec import Spec
 
 from mazegen.version import __version__ as __version__  # the package states its version
 
-__all__ = ["build", "load", "resume", "run", "sweep"]
+_HOMES = {
+    "build": "mazegen.api",
+    "load": "mazegen.api",
+    "run": "mazegen.api",
+    "resume": "mazegen.api",
+    "sweep": "mazegen.api",
+    "ExperimentResult": "mazegen.runtime.runs.launcher",
+    "MazeError": "mazegen.errors",
+    "Spec": "mazegen.spec",
+}
+"""Each public name and the module that defines it."""
+
+__all__ = ["ExperimentResult", "MazeError", "Spec", "build", "load", "resume", "run", "sweep"]
 
 
 def __getattr__(name: str) -> Any:
-    if name in __all__:
-        from mazegen import api
+    if name in _HOMES:
+        import importlib
 
-        return getattr(api, name)
+        return getattr(importlib.import_module(_HOMES[name]), name)
     raise AttributeError(f"module 'mazegen' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    """The public names and the module's own attributes, not the helpers it imports."""
+    return sorted([*__all__, *(name for name in globals() if name.startswith("__"))])

@@ -1,4 +1,4 @@
-"""The Python API: load a spec, build it, run it, get the best scenarios.
+"""The Python API: load a spec, build it, run it, resume it, sweep its settings, get the best scenarios.
 
 Example::
 
@@ -6,13 +6,16 @@ Example::
     spec = mazegen.load("examples/factory.maze")
     result = mazegen.run(spec, seed=3, population=500)
     print(result.best[0][0]["phenotype"])
+
+Errors are :class:`~mazegen.errors.MazeError`; those naming an option name it as
+this API does (``force=True``), where the command line says ``--force``.
 """
 
 from __future__ import annotations
 
 import os
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -151,7 +154,7 @@ def resume(
 
 def sweep(
     specs: Sequence[Spec | str | os.PathLike[str]],
-    settings: dict[str, Sequence[int | float]],
+    settings: Mapping[str, Sequence[int | float]],
     *,
     out_dir: str | os.PathLike[str],
     runs: int | None = None,

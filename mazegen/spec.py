@@ -305,7 +305,7 @@ class Spec:
     def to_json(self) -> str:
         """Serialise to deterministic JSON text."""
         body = {"format": "mazegen-spec", "version": SPEC_FORMAT_VERSION, **dataclasses.asdict(self)}
-        return json.dumps(body, indent=2, sort_keys=True) + "\n"
+        return json.dumps(body, indent=2, sort_keys=True, allow_nan=False) + "\n"
 
     @classmethod
     def from_json(cls, text: str) -> Spec:

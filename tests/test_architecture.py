@@ -37,7 +37,7 @@ def test_a_wrong_way_import_breaks_a_contract(tmp_path):
     )
     done = lint_imports(tmp_path)
     assert done.returncode != 0
-    assert "Runtime rooms import downwards only" in done.stdout
+    assert "Layers: each imports only those below it" in done.stdout
     assert "mazegen.runtime.engine.population -> mazegen.runtime.runs.launcher" in done.stdout
 
 

@@ -6,6 +6,7 @@ import click
 
 from mazegen.dsl.loader import check_file
 from mazegen.errors import MazeError
+from mazegen.text import printable
 
 
 @click.command()
@@ -17,9 +18,9 @@ def check(files: tuple[str, ...]) -> None:
         try:
             check_file(name)
         except MazeError as error:
-            click.echo(str(error), err=True)
+            click.echo(error.render(command_line=True), err=True)
             failed = True
         else:
-            click.echo(f"{name}: OK")
+            click.echo(f"{printable(name)}: OK")
     if failed:
         raise SystemExit(1)

@@ -21,7 +21,7 @@ def reports_errors(command: F) -> F:
         try:
             return command(*args, **kwargs)
         except MazeError as error:
-            click.echo(str(error), err=True)
+            click.echo(error.render(command_line=True), err=True)
             raise SystemExit(1) from None
 
     return wrapper  # type: ignore[return-value]

@@ -36,12 +36,12 @@ FORMAT_NAMES = ("ros", "gazebo", "movingai", "json", "svg", "png")
 @click.option(
     "--cell",
     type=float,
-    help="movingai: cell size in arena units (default the spec's navigation grid cell).",
+    help="ros, movingai: cell size in arena units (default the spec's navigation grid cell).",
 )
 @click.option(
     "--scale",
-    type=click.FloatRange(min=0, min_open=True),
-    help="ros, gazebo: metres per arena unit (default from the unit; 1 px = 1 cm).",
+    type=float,
+    help="ros, gazebo: metres per arena unit, 1e-06 to 1000 (default from the unit; 1 px = 1 cm).",
 )
 @click.option("--force", is_flag=True, help="Replace files that exist already.")
 @reports_errors
@@ -58,12 +58,13 @@ def export(
     from mazegen.runtime.exporters.batch import default_out_dir, export_plan, write_files
     from mazegen.runtime.exporters.floor import ExportOptions
 
+    options = ExportOptions(scale=scale, cell=cell)  # checked before anything is read
     resolved = None
     if spec is not None:
         from mazegen.dsl.loader import load_spec
 
         resolved = load_spec(spec)
     target = out or default_out_dir(source, fmt)
-    files = export_plan(source, fmt, target, spec=resolved, options=ExportOptions(scale=scale, cell=cell))
+    files = export_plan(source, fmt, target, spec=resolved, options=options)
     write_files(files, force=force)
     click.echo(f"wrote {len(files)} files to {target}")

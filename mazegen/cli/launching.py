@@ -10,6 +10,9 @@ from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 
+from mazegen.cli.bounds import CHECKPOINT_EVERY, WORKERS, BoundedOption, within
+from mazegen.errors import MazeError
+
 if TYPE_CHECKING:
     from mazegen.runtime.engine.problem import Problem
     from mazegen.runtime.runs.progress import Reporter
@@ -32,14 +35,18 @@ def launch_options(command: F) -> F:
             help="Where runs execute: local worker processes, this process, or a Dask cluster.",
         ),
         click.option(
-            "--workers", type=click.IntRange(min=1), help="Local worker processes (default: the cores)."
+            "--workers",
+            type=within(*WORKERS),
+            cls=BoundedOption,
+            help="Local worker processes (default: the cores).",
         ),
         click.option(
             "--scheduler", metavar="tcp://HOST:PORT", help="The Dask scheduler (with --executor dask)."
         ),
         click.option(
             "--checkpoint-every",
-            type=click.IntRange(min=0),
+            type=within(*CHECKPOINT_EVERY),
+            cls=BoundedOption,
             metavar="K",
             help="Checkpoint every K generations (0: never; default: every 30 s and the last generation).",
         ),
@@ -56,7 +63,13 @@ def launch_options(command: F) -> F:
 
 
 def launch_settings(options: dict[str, Any]) -> dict[str, Any]:
-    """The keyword arguments of :func:`mazegen.api.run` that :func:`launch_options` collected."""
+    """The keyword arguments of :func:`mazegen.api.run` that :func:`launch_options` collected.
+
+    Raises:
+        MazeError: for ``--workers`` without local worker processes to count.
+    """
+    if options["workers"] is not None and options["executor"] != "local":
+        raise MazeError(f"--workers goes with --executor local, not {options['executor']}")
     return {
         "executor": options["executor"],
         "workers": options["workers"],

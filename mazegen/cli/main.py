@@ -10,6 +10,7 @@ import importlib
 
 import click
 
+from mazegen.cli.errors import reports_errors
 from mazegen.version import __version__
 
 COMMANDS = {
@@ -42,6 +43,11 @@ class LazyGroup(click.Group):
         module = importlib.import_module(f"mazegen.cli.{cmd_name}")
         command: click.Command = getattr(module, COMMANDS[cmd_name])
         return command
+
+    def invoke(self, ctx: click.Context) -> object:
+        """Run the sub-command; a mistake found while its options are read (a number out of its
+        bounds, see :mod:`mazegen.cli.bounds`) is one line too, as in the command itself."""
+        return reports_errors(super().invoke)(ctx)
 
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})

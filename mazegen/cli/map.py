@@ -8,10 +8,12 @@ from pathlib import Path
 
 import click
 
+from mazegen.cli.bounds import BoundedOption, setting, within
 from mazegen.cli.errors import reports_errors
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.spec import Evolution
+from mazegen.spec import CODON_MAX, Evolution
+from mazegen.text import printable
 
 _SEPARATOR = re.compile(r"[\s,]+")
 
@@ -23,17 +25,20 @@ def _genomes(path: Path) -> list[tuple[int, list[int]]]:
         if not text:
             continue
         try:
-            genomes.append((number, [int(token) for token in _SEPARATOR.split(text) if token]))
+            genome = [int(token) for token in _SEPARATOR.split(text) if token]
         except ValueError:
             raise MazeError(
                 "a genome is integers separated by spaces or commas", filename=str(path), line=number, col=1
             ) from None
+        if any(not 0 <= codon <= CODON_MAX for codon in genome):
+            raise MazeError(f"codons must be from 0 to {CODON_MAX}", filename=str(path), line=number, col=1)
+        genomes.append((number, genome))
     return genomes
 
 
 @click.command("map")
 @click.argument("grammar", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.argument("codons", nargs=-1, type=int)
+@click.argument("codons", nargs=-1, type=within(0, CODON_MAX, what="codon"))
 @click.option(
     "--genomes",
     type=click.Path(exists=True, dir_okay=False, path_type=Path),
@@ -41,7 +46,8 @@ def _genomes(path: Path) -> list[tuple[int, list[int]]]:
 )
 @click.option(
     "--wraps",
-    type=click.IntRange(min=0),
+    type=setting("wraps"),
+    cls=BoundedOption,
     help="Extra passes over the genome.  [default: the spec's, else 0]",
 )
 @click.option(
@@ -86,8 +92,8 @@ def map_command(
     else:
         raise MazeError("give codons after the grammar, or --genomes FILE")
     for genome in batch:
-        if not genome or any(c < 0 for c in genome):
-            raise MazeError("a genome needs at least one codon, none negative")
+        if not genome:
+            raise MazeError("a genome needs at least one codon")
         result = map_genome(parsed, genome, wraps=wraps, consume=consume)
         if as_json:
             click.echo(
@@ -96,6 +102,6 @@ def map_command(
                 )
             )
         elif result.valid:
-            click.echo(f"{result.phenotype}\t{result.used_codons} codons")
+            click.echo(f"{printable(result.phenotype or '')}\t{result.used_codons} codons")
         else:
             click.echo(f"invalid\t{result.used_codons} codons")

@@ -7,16 +7,19 @@ from typing import Any
 
 import click
 
+from mazegen.cli.bounds import BoundedOption, setting
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import compile_first, launch_options, launch_settings, reports_interruption
 
 
 @click.command()
 @click.argument("source", type=click.Path(exists=True, path_type=Path))
-@click.option("--seed", type=int, help="Seed of the experiment (overrides the spec).")
-@click.option("--runs", type=int, help="Number of runs.")
-@click.option("--population", type=int, help="Population size.")
-@click.option("--generations", type=int, help="Number of generations.")
+@click.option(
+    "--seed", type=setting("seed"), cls=BoundedOption, help="Seed of the experiment (overrides the spec)."
+)
+@click.option("--runs", type=setting("runs"), cls=BoundedOption, help="Number of runs.")
+@click.option("--population", type=setting("population"), cls=BoundedOption, help="Population size.")
+@click.option("--generations", type=setting("generations"), cls=BoundedOption, help="Number of generations.")
 @click.option(
     "-o",
     "--out",
@@ -47,12 +50,13 @@ def run(
     from mazegen.errors import MazeError
     from mazegen.runtime.engine.problem import read_build_spec
     from mazegen.runtime.runs.command_line import NO_SCENARIO, closing_lines, summary_lines
-    from mazegen.runtime.runs.experiment import default_run_dir
+    from mazegen.runtime.runs.experiment import default_run_dir, with_overrides
     from mazegen.runtime.runs.progress import reporter_for
 
     spec = api.load(source) if source.is_file() else read_build_spec(source)
     what = spec if source.is_file() else source  # a spec, or the build directory to run as it is
-    target = out or default_run_dir(spec.with_evolution(seed=seed))
+    overridden = with_overrides(spec, seed=seed, runs=runs, population=population, generations=generations)
+    target = out or default_run_dir(overridden)
     reporter = reporter_for(quiet=quiet)
     try:
         compile_first(what, options["executor"], reporter)

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import click
 
+from mazegen.cli.bounds import BoundedOption, within
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.runs import catalog_option
 
@@ -31,7 +32,10 @@ COLUMNS = (
     help="Keep scenarios where it holds, e.g. 'difficulty>=20' (repeatable; all must hold).",
 )
 @click.option(
-    "--min-elements", type=click.IntRange(min=0), help="Keep scenarios with at least this many elements."
+    "--min-elements",
+    type=within(0, 1_000_000),
+    cls=BoundedOption,
+    help="Keep scenarios with at least this many elements.",
 )
 @click.option("--solvable", is_flag=True, help="Keep solvable scenarios only.")
 @click.option("--scenario", help="Only scenarios of this scenario name.")
@@ -43,7 +47,12 @@ COLUMNS = (
     help="fitness, elements, run, rank, seed, population, generations, or a metric (difficulty, ...).",
 )
 @click.option("--ascending", is_flag=True, help="Smallest first (default: largest first).")
-@click.option("--limit", type=click.IntRange(min=1), help="At most this many scenarios.")
+@click.option(
+    "--limit",
+    type=within(1, 2**63 - 1),
+    cls=BoundedOption,
+    help="At most this many scenarios (SQLite's integers).",
+)
 @click.option("--paths", is_flag=True, help="Print only the scenario files' paths, one per line.")
 @reports_errors
 def scenarios(

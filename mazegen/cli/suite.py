@@ -6,21 +6,34 @@ from pathlib import Path
 
 import click
 
+from mazegen.cli.bounds import BoundedOption, setting, within
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import compile_first
+from mazegen.errors import MazeError
 
 
 @click.command()
 @click.argument("spec", type=click.Path(exists=True, dir_okay=False, path_type=Path))
-@click.option("--size", type=click.IntRange(min=1), default=20, show_default=True, help="Scenarios to write.")
-@click.option("--seed", type=int, help="Seed (default: the spec's).")
+@click.option(
+    "--size",
+    type=within(1, 10_000),
+    cls=BoundedOption,
+    default=20,
+    show_default=True,
+    help="Scenarios to write.",
+)
+@click.option("--seed", type=setting("seed"), cls=BoundedOption, help="Seed (default: the spec's).")
 @click.option(
     "--iterations",
-    type=click.IntRange(min=0),
+    type=setting("generations"),
+    cls=BoundedOption,
     help="Batches bred from the archive (default: the spec's generations).",
 )
 @click.option(
-    "--batch", type=click.IntRange(min=2), help="Scenarios per batch (default: the spec's population)."
+    "--batch",
+    type=within(2, 1_000_000),
+    cls=BoundedOption,
+    help="Scenarios per batch (default: the spec's population).",
 )
 @click.option(
     "-o",
@@ -52,6 +65,11 @@ def suite(
 
     resolved = load_spec(spec)
     settings = resolved.evolution
+    if batch is not None:  # a batch is bred as a population: it holds as many codons
+        try:
+            resolved.with_evolution(population=batch)
+        except ValueError as error:
+            raise MazeError(f"--batch {batch}: {error}") from None
     seed = settings.seed if seed is None else seed
     iterations = settings.generations if iterations is None else iterations
     batch = settings.population if batch is None else batch

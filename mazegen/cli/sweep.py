@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from mazegen.cli.bounds import BoundedOption, setting
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import launch_options, launch_settings, reports_interruption
 
@@ -22,7 +23,7 @@ from mazegen.cli.launching import launch_options, launch_settings, reports_inter
     metavar="NAME=VALUES",
     help="A swept setting: population=500,1000  seed=1..3  fitness.overlap=0.25,0.5 (repeatable).",
 )
-@click.option("--runs", type=click.IntRange(min=1), help="Runs per cell (overrides the specs).")
+@click.option("--runs", type=setting("runs"), cls=BoundedOption, help="Runs per cell (overrides the specs).")
 @click.option(
     "-o",
     "--out",
@@ -49,10 +50,10 @@ def sweep(
     are skipped and interrupted ones resumed.
     """
     from mazegen import api
-    from mazegen.runtime.campaigns.sweep import Axis
+    from mazegen.runtime.campaigns.sweep import parse_axes
     from mazegen.runtime.runs.progress import reporter_for
 
-    parsed = [Axis.parse(text) for text in axes]
+    parsed = parse_axes(axes)
     resolved = [api.load(path) for path in specs]
     target = out or Path("sweeps") / resolved[0].name
     reporter = reporter_for(quiet=quiet)

@@ -5,9 +5,11 @@ from __future__ import annotations
 import re
 from typing import Any
 
+from mazegen.dsl.bounds import MAX_LENGTH, MAX_SLOTS, MAX_TARGET, MAX_TERMINALS, MAX_WEIGHT, at_most
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
 from mazegen.spec import (
     DIFFICULTY_LEVELS,
+    MAX_CODONS,
     Arena,
     Evolution,
     FitnessTerm,
@@ -16,11 +18,9 @@ from mazegen.spec import (
     out_of_bounds,
     task_point_problem,
 )
+from mazegen.text import decode_escapes, quoted
 
 _WORD = re.compile(r"\w")
-# Element slots per floor: every individual carries this many placement rows, and the overlap
-# test keeps a list of every pair, so the count is bounded to keep memory in reason.
-MAX_SLOTS = 1000
 
 
 def convert_arena(decl: Any) -> Arena:
@@ -37,9 +37,14 @@ def convert_arena(decl: Any) -> Arena:
     size = props["ArenaSize"]
     if size.width <= 0 or size.height <= 0:
         fail(size, f"arena size must be positive, got {size.width:g} x {size.height:g}")
+    if max(size.width, size.height) > MAX_LENGTH:
+        shown = f"{size.width:.15g} x {size.height:.15g}"
+        fail(size, f"arena size must be at most {MAX_LENGTH}, got {shown}")
     radius = props["RobotProperty"].radius if "RobotProperty" in props else 0.0
     if radius < 0:
         fail(props["RobotProperty"], f"robot radius must not be negative, got {radius:g}")
+    if "RobotProperty" in props:
+        at_most(props["RobotProperty"], radius, MAX_LENGTH, "robot radius")
     points = {}
     for key, label in (("StartProperty", "start"), ("GoalProperty", "goal")):
         point = props[key].point
@@ -69,6 +74,9 @@ def _int_values(obj: Any, what: str, *, minimum: int) -> tuple[int, ...]:
     check_range(obj, obj.low, obj.high, what, positive=False)
     if obj.low < minimum:
         fail(obj, f"{what} must be at least {minimum}, got {obj.low}")
+    count = (obj.high - obj.low) // step + 1
+    if count > MAX_TERMINALS:
+        fail(obj, f"{what} {obj.low}..{obj.high} give {count} values; at most {MAX_TERMINALS}")
     return tuple(range(obj.low, obj.high + 1, step))
 
 
@@ -80,6 +88,12 @@ def _bnf_text(symbol: Any) -> str:
         fail(symbol, "empty text in a grammar rule")
     if '"' in text and "'" in text:
         fail(symbol, "grammar text cannot hold both kinds of quote")
+    if not text.isprintable():
+        fail(symbol, f"grammar text {quoted(text)} holds a control character (write \\n for a line break)")
+    try:
+        decode_escapes(text)  # as the run will, so a bad escape is found at the spec's line
+    except ValueError as error:
+        fail(symbol, f"bad escape in grammar text {quoted(text)}: {error}")
     return f"'{text}'" if '"' in text else f'"{text}"'
 
 
@@ -173,6 +187,8 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
         scale = prop.scale if prop.scale is not None else 1.0
         if scale <= 0:
             fail(prop, f"scale must be positive, got {scale:g}")
+        at_most(prop, scale, MAX_LENGTH, "scale")
+        at_most(prop, sizes[-1] * scale, MAX_LENGTH, f"sizes up to {sizes[-1]} x scale {scale:g}")
         placement = GrammarPlacement(sizes, scale, positions)
     return Scenario(decl.name, decl.arena, tuple(names), style, custom, max_elements, placement)
 
@@ -199,9 +215,12 @@ def _fitness_term(term: Any) -> FitnessTerm:
     weight = term.weight if term.weight is not None else 1.0
     if weight < 0:
         fail(term, f"weight must not be negative, got {weight:g}")
+    at_most(term, weight, MAX_WEIGHT, "weight")
     limit = getattr(term, "limit", None)
     if limit is not None and limit <= 0:
         fail(term, f"size limit must be positive, got {limit:g}")
+    if limit is not None:
+        at_most(term, limit, MAX_LENGTH, "size limit")
     reject = bool(getattr(term, "reject", False))
     if kind == "size_limit" and getattr(term, "allow", False):
         fail(term, "a size limit needs 'reject' or 'penalty W'")
@@ -222,6 +241,8 @@ def _target(term: Any) -> tuple[float, float] | None:
         fail(span, f"a target range needs low < high, got {span.low:g}..{span.high:g}")
     if span.low < 0:
         fail(span, f"a target range cannot go below 0, got {span.low:g}..{span.high:g}")
+    if span.high > MAX_TARGET:
+        fail(span, f"a target range cannot go above {MAX_TARGET}, got {span.low:.15g}..{span.high:.15g}")
     if getattr(term, "kind", None) == "coverage" and span.high > 1:
         fail(span, f"coverage is a fraction of the floor (0..1), got {span.low:g}..{span.high:g}")
     return (float(span.low), float(span.high))
@@ -262,9 +283,16 @@ def convert_evolution(decl: Any | None) -> Evolution:
             fail(
                 codons, f"codons must be written 0..MAX with MAX at least 1, got {codons.low}..{codons.high}"
             )
-        values["codon_max"] = codons.high
+        values["codon_max"] = _bounded(codons, "codon_max", codons.high, "codons 0..MAX: MAX")
     if "ConsumeSetting" in props:
         values["consume"] = props["ConsumeSetting"].mode
+    population = values.get("population", Evolution.population)
+    genome = values.get("genome", Evolution.genome)
+    if population * genome > MAX_CODONS:
+        fail(
+            props.get("genome", props.get("population")),
+            f"population x genome must be at most {MAX_CODONS} codons, got {population} x {genome}",
+        )
     evolution = Evolution(**values)
     if evolution.elitism >= evolution.population:
         if "elitism" in props:

@@ -6,6 +6,7 @@ import re
 from typing import Any
 
 from mazegen.dsl import shapes
+from mazegen.dsl.bounds import MAX_ANGLE, MAX_CORNERS, MAX_LENGTH, at_most
 from mazegen.dsl.located import check_range, fail, single_properties
 from mazegen.spec import ElementType, Part
 
@@ -20,24 +21,49 @@ def _parts(shape: Any) -> tuple[Part, ...]:
         if kind == "triangle":
             return shapes.triangle_parts()
         if kind == "polygon":
-            if shape.sides < 3:
-                fail(shape, f"a regular polygon needs at least 3 sides, got {shape.sides}")
+            if not 3 <= shape.sides <= MAX_CORNERS:
+                fail(shape, f"a regular polygon has 3 to {MAX_CORNERS} sides, got {shape.sides}")
             return shapes.regular_polygon_parts(shape.sides)
         if kind == "points":
+            if len(shape.points) > MAX_CORNERS:
+                fail(shape, f"an outline has at most {MAX_CORNERS} points, got {len(shape.points)}")
+            _check_points(shape.points)
             return shapes.polygon_parts([(p.x, p.y) for p in shape.points])
         if shape.thickness <= 0:
             fail(shape, f"bar thickness must be positive, got {shape.thickness:g}")
+        at_most(shape, shape.thickness, MAX_LENGTH, "bar thickness")
+        if len(shape.segments) > MAX_CORNERS:
+            fail(shape, f"a bar figure has at most {MAX_CORNERS} bars, got {len(shape.segments)}")
+        _check_points([end for s in shape.segments for end in (s.start, s.end)])
         segments = [((s.start.x, s.start.y), (s.end.x, s.end.y)) for s in shape.segments]
         return shapes.bar_parts(segments, shape.thickness)
     except ValueError as error:
         fail(shape, f"bad {kind} shape: {error}")
 
 
+def _check_points(points: list[Any]) -> None:
+    """Keep every point's coordinates within the largest length."""
+    for point in points:
+        if max(abs(point.x), abs(point.y)) > MAX_LENGTH:
+            fail(
+                point,
+                f"a point's coordinates must be within -{MAX_LENGTH}..{MAX_LENGTH}, "
+                f"got ({point.x:.15g}, {point.y:.15g})",
+            )
+
+
 def _range(obj: Any, what: str) -> tuple[float, float]:
     low = obj.low
     high = low if obj.high is None else obj.high
     check_range(obj, low, high, what)
+    at_most(obj, high, MAX_LENGTH, what)
     return (low, high)
+
+
+def _angles(obj: Any, angles: tuple[float, ...]) -> None:
+    for angle in angles:
+        if abs(angle) > MAX_ANGLE:
+            fail(obj, f"rotation angles must be within -{MAX_ANGLE}..{MAX_ANGLE}, got {angle:g}")
 
 
 def _rotation(prop: Any | None) -> dict[str, Any]:
@@ -47,8 +73,11 @@ def _rotation(prop: Any | None) -> dict[str, Any]:
         return {"rotation_range": (0.0, 360.0)}
     if prop.range is not None:
         check_range(prop.range, prop.range.low, prop.range.high, "rotation", positive=False)
+        _angles(prop.range, (prop.range.low, prop.range.high))
         return {"rotation_range": (prop.range.low, prop.range.high)}
-    return {"rotations": tuple(float(a) for a in prop.angles)}
+    angles = tuple(float(a) for a in prop.angles)
+    _angles(prop, angles)
+    return {"rotations": angles}
 
 
 def convert_element(decl: Any) -> ElementType:
@@ -81,6 +110,7 @@ def convert_element(decl: Any) -> ElementType:
         height = props["HeightProperty"].height
         if height <= 0:
             fail(props["HeightProperty"], f"height must be positive, got {height:g}")
+        at_most(props["HeightProperty"], height, MAX_LENGTH, "height")
         extras["height"] = height
     return ElementType(
         name=decl.name, shape=shape.kind, parts=_parts(shape), size=size, size2=size2, **extras

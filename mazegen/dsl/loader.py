@@ -20,6 +20,7 @@ from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
 from mazegen.spec import Spec
+from mazegen.text import quoted
 
 LIBRARY_DIR = Path(__file__).resolve().parent.parent / "library"
 
@@ -77,17 +78,22 @@ def _check_declares(model: Any, label: str | None) -> None:
 
 def _resolve_import(imp: Any, importer: Path) -> Path:
     if imp.library is not None:
-        candidate = LIBRARY_DIR / f"{imp.library}.maze"
-        if not candidate.is_file():
+        if imp.library not in bundled_libraries():
             fail(
                 imp,
-                f"unknown library '{imp.library}'{suggestion(imp.library, bundled_libraries())}"
+                f"unknown library {quoted(imp.library)}{suggestion(imp.library, bundled_libraries())}"
                 f" (bundled: {', '.join(bundled_libraries())}; import a file with a quoted path)",
             )
-        return candidate
-    candidate = (importer.parent / imp.path).resolve()
-    if not candidate.is_file():
-        fail(imp, f"imported file '{imp.path}' not found")
+        return LIBRARY_DIR / f"{imp.library}.maze"
+    if not imp.path.isprintable():
+        fail(imp, f"import path {quoted(imp.path)} holds a control character")
+    try:
+        candidate = (importer.parent / imp.path).resolve()
+        found = candidate.is_file()
+    except OSError as error:  # a name too long for the file system, a loop of links...
+        fail(imp, f"imported file {quoted(imp.path)} cannot be read: {error.strerror or error}")
+    if not found:
+        fail(imp, f"imported file {quoted(imp.path)} not found")
     return candidate
 
 
@@ -215,6 +221,10 @@ def spec_from_model(model: Any) -> Spec:
 
 def _existing(path: str | os.PathLike[str]) -> Path:
     p = Path(path)
-    if not p.is_file():
+    try:
+        found = p.is_file()
+    except OSError as error:  # a name too long for the file system
+        raise MazeError(f"cannot read spec: {error.strerror or error}", filename=str(path)) from None
+    if not found:
         raise MazeError("no such spec file", filename=str(path))
     return p

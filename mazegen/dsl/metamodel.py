@@ -6,10 +6,13 @@ so that the loader never imports what imports it.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from textx import metamodel_for_language, metamodel_from_file
-from textx.exceptions import TextXRegistrationError
+from textx.exceptions import TextXRegistrationError, TextXSemanticError
+
+from mazegen.dsl.bounds import MAX_DIGITS, digits_before_point
 
 GRAMMAR_FILE = Path(__file__).with_name("maze.tx")
 
@@ -17,8 +20,23 @@ GRAMMAR_FILE = Path(__file__).with_name("maze.tx")
 def grammar_metamodel():
     """The textX metamodel of the ``.maze`` grammar, without MazeGen's semantic checks."""
     metamodel = metamodel_from_file(str(GRAMMAR_FILE), autokwd=True)
-    metamodel.register_obj_processors({"Number": float, "Integer": int})
+    metamodel.register_obj_processors({"Number": _bounded_literal(float), "Integer": _bounded_literal(int)})
     return metamodel
+
+
+def _bounded_literal(convert: Callable[[str], float]) -> Callable[[str], float]:
+    """A converter that refuses a literal too long to be a meaningful number; textX locates the
+    error at the literal."""
+
+    def read(text: str) -> float:
+        digits = digits_before_point(text)
+        if digits > MAX_DIGITS:
+            raise TextXSemanticError(
+                f"number too long: at most {MAX_DIGITS} digits before the point, got {digits}"
+            )
+        return convert(text)
+
+    return read
 
 
 def metamodel():

@@ -8,6 +8,7 @@ from arpeggio import RegExMatch
 from textx.exceptions import TextXSyntaxError
 
 from mazegen.errors import MazeError
+from mazegen.text import quoted
 
 # Named terminal rules of maze.tx and how a user would call them.
 _RULE_NAMES = {
@@ -60,7 +61,7 @@ def _found(text: str, line: int, col: int) -> str:
     if match is None:
         tail = "".join(lines[line:]).strip()
         return "end of file" if not tail else "end of line"
-    return f"'{match.group(0)}'"
+    return quoted(match.group(0))
 
 
 def syntax_error(error: TextXSyntaxError, text: str, filename: str) -> MazeError:

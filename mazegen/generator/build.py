@@ -2,11 +2,16 @@
 
 from __future__ import annotations
 
+import dataclasses
+import math
+from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from jinja2 import Environment, PackageLoader, StrictUndefined
 
+from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
 from mazegen.generator.grammar import scenario_rules
 from mazegen.spec import REWARDS, FitnessTerm, Spec
@@ -95,13 +100,42 @@ def _context(spec: Spec) -> dict[str, str]:
     return {"name": spec.name, "version": __version__}
 
 
+def _non_finite(value: Any, where: str) -> Iterator[str]:
+    """Where, in a spec's data, a number is infinite or NaN (``arena.width``, ``fitness[0].weight``)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        yield f"{where} ({value})"
+    elif isinstance(value, dict):
+        for key, item in value.items():
+            yield from _non_finite(item, f"{where}.{key}" if where else key)
+    elif isinstance(value, list | tuple):
+        for index, item in enumerate(value):
+            yield from _non_finite(item, f"{where}[{index}]")
+
+
+def _check_buildable(spec: Spec, grammar: str) -> None:
+    """Refuse a spec (made in Python, or edited) whose files could not run: ``inf`` would reach
+    fitness.py as a name and spec.json as ``Infinity``, a bad grammar would fail the run in a
+    folder the user never sees. The language already refuses both at ``check``."""
+    from mazegen.runtime.engine.bnf import parse_bnf  # the runtime (numba) only when building
+
+    for where in _non_finite(dataclasses.asdict(spec), ""):
+        raise MazeError(f"the spec holds a non-finite number at {where}", filename=spec.source)
+    parse_bnf(grammar, filename=f"{spec.source} (its grammar)")
+
+
 def render_artifacts(spec: Spec) -> dict[str, str]:
-    """Render every build artifact of ``spec`` as text, keyed by file name."""
+    """Render every build artifact of ``spec`` as text, keyed by file name.
+
+    Raises:
+        MazeError: for a spec holding an infinite or NaN number, or whose grammar does not read.
+    """
     env = _environment()
     context = _context(spec)
+    grammar = grammar_text(spec)
+    _check_buildable(spec, grammar)
     penalised, rejecting = fitness_lines(spec)
     return {
-        "grammar.bnf": grammar_text(spec),
+        "grammar.bnf": grammar,
         "fitness.py": env.get_template("fitness.py.jinja").render(
             penalised=penalised, rejecting=rejecting, **context
         ),

@@ -111,7 +111,10 @@ def test_user_mistakes_are_one_line_errors(factory_run, tmp_path):
          "the arena of spec 'workshop' differs from the scenario's"),
         (["export", str(factory_run), "-f", "movingai", "--cell", "-2", "-o", str(tmp_path / "m")], 1,
          "--cell must be a positive number of arena units, got -2"),
-        (["export", str(alone), "-f", "gazebo", "--scale", "0"], 2, "Invalid value for '--scale'"),
+        (["export", str(alone), "-f", "gazebo", "--scale", "0"], 1,
+         "--scale must be from 1e-06 to 1000 metres per arena unit, got 0"),
+        (["export", str(alone), "-f", "svg", "--cell", "25"], 1,
+         "--cell does not apply to svg exports (only to ros, movingai)"),
         (["export", str(alone), "-f", "obj"], 2, "Invalid value for '-f' / '--format'"),
         (["export", str(tmp_path / "missing.json"), "-f", "svg"], 2, "does not exist"),
         (["report", str(tmp_path / "alone")], 1, "not a run, suite or sweep folder"),
@@ -124,6 +127,19 @@ def test_user_mistakes_are_one_line_errors(factory_run, tmp_path):
         if status == 1:
             assert len(result.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "m").exists()  # nothing written when one scenario fails
+
+
+def test_a_ros_map_is_made_on_the_cells_asked_for(factory_run, tmp_path):
+    """``--cell`` sets the ROS map's resolution as it does the MovingAI map's (it was ignored)."""
+    for cell, out in ((None, tmp_path / "default"), ("25", tmp_path / "coarse")):
+        extra = [] if cell is None else ["--cell", cell]
+        assert invoke("export", str(factory_run), "-f", "ros", "-o", str(out), *extra).exit_code == 0
+    default, coarse = (d / "run-01" / "best-01" for d in (tmp_path / "default", tmp_path / "coarse"))
+    assert "resolution: 0.125\n" in default.with_suffix(".yaml").read_text()  # the spec's grid 12.5 cm
+    assert "resolution: 0.25\n" in coarse.with_suffix(".yaml").read_text()
+    # 1400 x 1050 cm on cells of 25 cm, framed by one cell on each side
+    assert coarse.with_suffix(".pgm").read_bytes().startswith(b"P5\n58 44\n255\n")
+    assert default.with_suffix(".pgm").read_bytes().startswith(b"P5\n114 86\n255\n")
 
 
 def test_existing_exports_are_kept_without_force(factory_run, tmp_path):

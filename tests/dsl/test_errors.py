@@ -12,6 +12,10 @@ ELEMENT = "element box { shape square size 20..40 }\n"
 SCENARIO = "scenario s on floor { elements box }\n"
 
 
+def placement(*, sizes: str, positions: str) -> str:
+    return f"scenario s on floor {{ elements box placement grammar sizes {sizes} positions {positions} }}\n"
+
+
 def spec(*, arena: str = ARENA, element: str = ELEMENT, scenario: str = SCENARIO, tail: str = "") -> str:
     return element + arena + scenario + tail
 
@@ -125,9 +129,9 @@ BAD_SPECS = [
         "population 0",
         spec(tail="evolution { population 0 }\n"),
         "4:13",
-        "population must be at least 1, got 0",
+        "population must be from 1 to 1000000, got 0",
     ),
-    ("genome 0", spec(tail="evolution { genome 0 }\n"), "4:13", "genome must be at least 1, got 0"),
+    ("genome 0", spec(tail="evolution { genome 0 }\n"), "4:13", "genome must be from 1 to 10000, got 0"),
     (
         "selection 1.5",
         spec(tail="evolution { selection 1.5 }\n"),
@@ -244,6 +248,229 @@ BAD_SPECS = [
         "3:75",
         "positions up to 900 go beyond the arena",
     ),
+    # Hostile input (issue 19): every number bounded, nothing non-finite, no control character.
+    (
+        "import path with a NUL byte",
+        'import "a\0b"\n' + spec(),
+        "1:1",
+        "import path 'a\\x00b' holds a control",
+    ),
+    (
+        "import path with a line break",
+        'import "a\nb"\n' + spec(),
+        "1:1",
+        "import path 'a\\nb' holds a control",
+    ),
+    (
+        "import path too long",
+        'import "' + "a" * 300 + '"\n' + spec(),
+        "1:1",
+        "imported file '" + "a" * 40 + "...' cannot be read: File name too long",
+    ),
+    (
+        "a whole number of 5000 digits",
+        spec(tail="evolution { seed " + "9" * 5000 + " }\n"),
+        "4:18",
+        "number too long: at most 20 digits before the point, got 5000",
+    ),
+    (
+        "a 400-digit position",
+        spec(scenario=placement(sizes="1..8", positions="0..1" + "0" * 399)),
+        "3:78",
+        "number too long: at most 20 digits before the point, got 400",
+    ),
+    (
+        "a 400-digit weight",
+        spec(tail="fitness { count weight 1" + "0" * 400 + " }\n"),
+        "4:24",
+        "number too long",
+    ),
+    (
+        "a 400-digit arena size",
+        spec(arena="arena floor { size 1" + "0" * 400 + " x 800 start (50, 50) goal (950, 750) }\n"),
+        "2:20",
+        "number too long",
+    ),
+    (
+        "a 400-digit element size",
+        spec(element="element box { shape square size 20..1" + "0" * 400 + " }\n"),
+        "1:37",
+        "number too long",
+    ),
+    (
+        "sizes of a hundred million values",
+        spec(scenario=placement(sizes="1..100000000", positions="0..100")),
+        "3:60",
+        "sizes 1..100000000 give 100000000 values; at most 10000",
+    ),
+    (
+        "sizes scaled beyond the largest length",
+        spec(scenario=placement(sizes="1..8 scale 200000", positions="0..100")),
+        "3:36",
+        "sizes up to 8 x scale 200000 must be at most 1000000, got 1600000",
+    ),
+    (
+        "scale beyond the largest length",
+        spec(scenario=placement(sizes="1..8 scale 10000000", positions="0..100")),
+        "3:36",
+        "scale must be at most 1000000, got 10000000",
+    ),
+    (
+        "a polygon of a hundred million sides",
+        spec(element="element box { shape polygon 100000000 size 20..40 }\n"),
+        "1:21",
+        "a regular polygon has 3 to 64 sides, got 100000000",
+    ),
+    (
+        "a polygon of two million sides",
+        spec(element="element box { shape polygon 2000000 size 20..40 }\n"),
+        "1:21",
+        "a regular polygon has 3 to 64 sides, got 2000000",
+    ),
+    (
+        "an outline of 65 points",
+        spec(element="element box { shape points " + "(0,0) (1,0) " * 32 + "(1,1) size 20..40 }\n"),
+        "1:21",
+        "an outline has at most 64 points, got 65",
+    ),
+    (
+        "a figure of 65 bars",
+        spec(element="element box { shape bars " + "(0,0)-(1,0) " * 65 + "thickness 1 size 20..40 }\n"),
+        "1:21",
+        "a bar figure has at most 64 bars, got 65",
+    ),
+    (
+        "a point far away",
+        spec(element="element box { shape points (0,0) (1,0) (1,10000000) size 20..40 }\n"),
+        "1:40",
+        "a point's coordinates must be within -1000000..1000000, got (1, 10000000)",
+    ),
+    (
+        "a thick bar",
+        spec(element="element box { shape bars (0,0)-(1,0) thickness 10000000 size 20..40 }\n"),
+        "1:21",
+        "bar thickness must be at most 1000000, got 10000000",
+    ),
+    (
+        "an element larger than the largest length",
+        spec(element="element box { shape square size 20..10000000 }\n"),
+        "1:33",
+        "size must be at most 1000000, got 10000000",
+    ),
+    (
+        "a tall element",
+        spec(element="element box { shape square size 20 height 10000000 }\n"),
+        "1:36",
+        "height must be at most 1000000, got 10000000",
+    ),
+    (
+        "a rotation beyond a turn",
+        spec(element="element box { shape square size 20 rotation 0, 1000 }\n"),
+        "1:36",
+        "rotation angles must be within -360..360, got 1000",
+    ),
+    (
+        "an arena larger than the largest length",
+        spec(arena="arena floor { size 10000000 x 800 start (50, 50) goal (950, 750) }\n"),
+        "2:15",
+        "arena size must be at most 1000000, got 10000000 x 800",
+    ),
+    (
+        "a robot larger than the largest length",
+        spec(arena=ARENA.replace("robot radius 20", "robot radius 10000000")),
+        "2:65",
+        "robot radius must be at most 1000000, got 10000000",
+    ),
+    (
+        "genome 1000000000",
+        spec(tail="evolution { genome 1000000000 }\n"),
+        "4:13",
+        "genome must be from 1 to 10000",
+    ),
+    (
+        "population 100000000",
+        spec(tail="evolution { population 100000000 }\n"),
+        "4:13",
+        "population must be from 1 to 1000000, got 100000000",
+    ),
+    (
+        "runs of 20 digits",
+        spec(tail="evolution { runs 99999999999999999999 }\n"),
+        "4:13",
+        "runs must be from 1 to 10000, got 99999999999999999999",
+    ),
+    (
+        "codons beyond 32 bits",
+        spec(tail="evolution { codons 0..2147483648 }\n"),
+        "4:20",
+        "codons 0..MAX: MAX must be from 1 to 2147483647, got 2147483648",
+    ),
+    (
+        "wraps of 20 digits",
+        spec(tail="evolution { wraps 99999999999999999999 }\n"),
+        "4:13",
+        "wraps must be from 0 to 100, got 99999999999999999999",
+    ),
+    (
+        "seed beyond 64 bits",
+        spec(tail="evolution { seed 9223372036854775808 }\n"),
+        "4:13",
+        "seed must be from 0 to 9223372036854775807, got 9223372036854775808",
+    ),
+    (
+        "population x genome beyond the codons a machine holds",
+        spec(tail="evolution { population 1000000 genome 1000 }\n"),
+        "4:32",
+        "population x genome must be at most 100000000 codons, got 1000000 x 1000",
+    ),
+    (
+        "a weight beyond the largest",
+        spec(tail="fitness { count weight 10000000 }\n"),
+        "4:11",
+        "weight must be at most 1000000, got 10000000",
+    ),
+    (
+        "a size limit beyond the largest length",
+        spec(tail="fitness { size limit 10000000 reject }\n"),
+        "4:11",
+        "size limit must be at most 1000000, got 10000000",
+    ),
+    (
+        "a target beyond the largest",
+        spec(tail="fitness { path_length 1..10000000000 }\n"),
+        "4:23",
+        "a target range cannot go above 1000000000, got 1..10000000000",
+    ),
+    (
+        "grammar text with a line break",
+        spec(scenario='scenario s on floor { grammar custom { <s> ::= box "a\nb" } }\n'),
+        "3:52",
+        "grammar text 'a\\nb' holds a control character (write \\n for a line break)",
+    ),
+    (
+        "grammar text with a truncated escape",
+        spec(scenario='scenario s on floor { grammar custom { <s> ::= box "\\x" } }\n'),
+        "3:52",
+        "bad escape in grammar text '\\x': truncated \\xXX escape",
+    ),
+    (
+        "grammar text with an unknown character name",
+        spec(scenario='scenario s on floor { grammar custom { <s> ::= box "\\N{NOPE}" } }\n'),
+        "3:52",
+        "bad escape in grammar text '\\N{NOPE}': unknown Unicode character name",
+    ),
+    (
+        "a library name too long for a file name",
+        "import " + "n" * 300 + "\n" + spec(),
+        "1:1",
+        "unknown library '" + "n" * 40 + "...' (bundled: figures, manufacturing",
+    ),
+    (
+        "a huge token is quoted cut",
+        "x" * 100_000 + " { }\n",
+        "1:1",
+        "found '" + "x" * 40 + "...'",
+    ),
 ]
 
 
@@ -257,11 +484,22 @@ def test_bad_spec_gives_located_message(write_spec, name, text, where, fragment)
     assert caught.value.filename.endswith("spec.maze")
     assert fragment in message
     assert "\n" not in message
+    assert len(caught.value.message) < 300  # a huge token is quoted cut
 
 
 def test_missing_file_is_reported(tmp_path):
     with pytest.raises(MazeError, match="no such spec file"):
         load_spec(tmp_path / "absent.maze")
+
+
+@pytest.mark.parametrize(
+    ("name", "reason"),
+    [("a" * 300 + ".maze", "cannot read spec: File name too long"), ("a\0b", "no such spec")],
+)
+def test_a_spec_name_the_system_refuses_is_reported(tmp_path, name, reason):
+    for read in (check_file, load_spec):
+        with pytest.raises(MazeError, match=reason):
+            read(tmp_path / name)
 
 
 @pytest.mark.parametrize("text", ["", "   \n\n", "// only a comment\n"])

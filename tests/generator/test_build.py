@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+import re
 import subprocess
 import sys
 
@@ -9,9 +11,11 @@ import numpy as np
 import pytest
 
 from mazegen.dsl.loader import load_spec
+from mazegen.errors import MazeError
 from mazegen.generator.build import ARTIFACTS, build, render_artifacts
 from mazegen.runtime.engine.bnf import parse_bnf
 from mazegen.runtime.engine.mapping import map_genome
+from mazegen.spec import FitnessTerm
 from tests.conftest import EXAMPLES
 
 PAPER_GENOME = [34, 10, 200, 80, 5, 70, 45, 43]
@@ -172,3 +176,32 @@ def test_custom_rules_separate_rules_that_derive_words(write_spec, tmp_path):
     codons = np.array([[0, 0, 1, 1, 0]], dtype=np.int32)  # <e> <s>: square, then <e>: lshape
     mapped, _ = problem.decode(codons, np.zeros((1, problem.slots, 5), dtype=np.uint16))
     assert mapped.element_ids[0, :2].tolist() == [0, 1]
+
+
+@pytest.mark.parametrize(
+    ("change", "where"),
+    [
+        (lambda s: {"fitness": (FitnessTerm("count", weight=float("inf")),)}, "fitness[0].weight"),
+        (lambda s: {"arena": dataclasses.replace(s.arena, width=float("nan"))}, "arena.width"),
+        (
+            lambda s: {"elements": (dataclasses.replace(s.elements[0], size=(1.0, float("inf"))),)},
+            "elements[0].size[1]",
+        ),
+    ],
+)
+def test_no_infinity_or_nan_reaches_the_generated_files(change, where, tmp_path):
+    spec = load_spec(EXAMPLES / "mazegen1.maze")
+    spec = dataclasses.replace(spec, **change(spec))
+    with pytest.raises(MazeError, match=rf"non-finite number at {re.escape(where)}"):
+        build(spec, tmp_path)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_grammar_the_run_could_not_read_fails_at_build_naming_the_spec(tmp_path):
+    spec = load_spec(EXAMPLES / "mazegen1.maze")
+    bad = dataclasses.replace(spec.scenario, grammar="custom", custom_rules=(("<s>", ('angle "\\x"',)),))
+    with pytest.raises(MazeError) as caught:
+        build(dataclasses.replace(spec, scenario=bad), tmp_path)
+    assert "bad escape" in str(caught.value)
+    assert caught.value.filename == f"{spec.source} (its grammar)"
+    assert list(tmp_path.iterdir()) == []

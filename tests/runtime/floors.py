@@ -23,6 +23,8 @@ TYPES = mazegen.load(EXAMPLES / "factory.maze").scenario_elements
 TABLE = ElementTable.from_types(TYPES)
 NAMES = [t.name for t in TYPES]
 ARENA = Arena("hall", 1000, 600, "cm", (50, 50), (950, 550), 20, 10)
+ZIGZAG = [("vwall", 330, 225, 20, 450, 0), ("vwall", 660, 375, 20, 450, 0)]
+"""Two walls, each across three quarters of ARENA, from opposite sides: a zig-zag path."""
 
 
 def population(arena: Arena, scenarios: list[list[tuple]]) -> Population:

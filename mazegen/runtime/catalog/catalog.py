@@ -91,6 +91,8 @@ CREATE TABLE IF NOT EXISTS metrics (
 );
 CREATE INDEX IF NOT EXISTS metrics_by_name ON metrics (name, value);
 """
+TABLES = ("experiments", "runs", "generations", "scenarios", "metrics")
+"""The tables of :data:`SCHEMA`: a catalog without one of them is damaged."""
 
 
 def default_catalog(run_dir: Path) -> Path:
@@ -149,12 +151,16 @@ class Catalog:
                 )
             elif version != SCHEMA_VERSION:
                 raise sqlite3.DatabaseError(f"schema version {version}, this MazeGen reads {SCHEMA_VERSION}")
+            missing = [name for name in TABLES if name not in _table_names(connection)]
         except sqlite3.Error as error:
             if not existed and getattr(error, "sqlite_errorname", "") == "SQLITE_CANTOPEN":
                 raise MazeError("cannot write in this folder", filename=str(path.parent)) from None
             raise _disk_error(error, path, "use") or MazeError(
                 f"not a MazeGen catalog ({error})", filename=str(path)
             ) from None
+        if missing:
+            connection.close()
+            raise MazeError(f"the catalog is damaged: it has no table '{missing[0]}'", filename=str(path))
         return cls(connection, path)
 
     def close(self) -> None:
@@ -317,8 +323,15 @@ class Catalog:
             )
 
     def query(self, sql: str, parameters: tuple[Any, ...] = ()) -> list[sqlite3.Row]:
-        """Rows of a read-only query (see :mod:`mazegen.runtime.catalog.catalog_query`)."""
-        return self._db.execute(sql, parameters).fetchall()
+        """Rows of a read-only query (see :mod:`mazegen.runtime.catalog.catalog_query`).
+
+        Raises:
+            MazeError: for a catalog whose tables lack what the query reads (edited or damaged).
+        """
+        try:
+            return self._db.execute(sql, parameters).fetchall()
+        except sqlite3.DatabaseError as error:
+            raise MazeError(f"the catalog is damaged: {error}", filename=str(self.path)) from None
 
 
 _DISK_ERRORS = ("SQLITE_FULL", "SQLITE_READONLY", "SQLITE_IOERR", "SQLITE_CANTOPEN", "SQLITE_PERM")
@@ -334,6 +347,10 @@ def _disk_error(error: sqlite3.Error, path: Path, doing: str) -> MazeError | Non
 
 def _has_tables(connection: sqlite3.Connection) -> bool:
     return connection.execute("SELECT count(*) FROM sqlite_master").fetchone()[0] > 0
+
+
+def _table_names(connection: sqlite3.Connection) -> set[str]:
+    return {row[0] for row in connection.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
 
 
 @contextmanager

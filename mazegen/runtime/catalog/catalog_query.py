@@ -8,6 +8,7 @@ always bound parameters.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from typing import Any
@@ -54,6 +55,8 @@ class Condition:
             value = _BOOLEANS[raw.lower()] if raw.lower() in _BOOLEANS else float(raw)
         except ValueError:
             raise MazeError(f"condition '{text}': '{raw}' is not a number") from None
+        if not math.isfinite(value):
+            raise MazeError(f"condition '{text}': '{raw}' is not a finite number")
         return cls(name, "=" if operator == "==" else operator, value)
 
 

@@ -30,14 +30,13 @@ PonyGE2's ``GE_RANGE``/``GE_GENERATE`` directives are not supported.
 from __future__ import annotations
 
 import bisect
-import codecs
 import re
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
+from mazegen.text import decode_escapes
 
 _SCAN = re.compile(
     r"(?P<head><[^>|\s]+>)\s*::="
@@ -200,12 +199,7 @@ def _add_alternative(
 
 
 def _unescape(part: str, source: _Source, offset: int) -> str:
-    """Decode backslash escapes like PonyGE2's ``unicode-escape`` step."""
-    if "\\" not in part:
-        return part
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", DeprecationWarning)
-            return codecs.decode(part.encode("latin-1", "backslashreplace"), "unicode-escape")
-    except UnicodeDecodeError as exc:
-        raise source.error(f"bad escape in terminal {part!r}: {exc.reason}", offset) from None
+        return decode_escapes(part)
+    except ValueError as exc:
+        raise source.error(f"bad escape in terminal {part!r}: {exc}", offset) from None

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+from mazegen.errors import MazeError
 from mazegen.runtime.documents.scenario import dumps
 from mazegen.runtime.exporters.floor import ExportOptions, Floor
 from mazegen.runtime.exporters.gazebo import gazebo_files
@@ -47,3 +48,25 @@ FORMATS: dict[str, Callable[[Floor, ExportOptions], Files]] = {
     "png": png_files,
 }
 """Every export format by the name ``mazegen export --format`` takes."""
+
+FORMAT_OPTIONS: dict[str, tuple[str, ...]] = {
+    "ros": ("scale", "cell"),
+    "gazebo": ("scale",),
+    "movingai": ("cell",),
+    "json": (),
+    "svg": (),
+    "png": (),
+}
+"""The :class:`ExportOptions` each format reads: any other given is a mistake, not ignored."""
+
+
+def check_options(fmt: str, options: ExportOptions) -> None:
+    """Refuse an option the format ``fmt`` does not read (``--cell`` for an SVG).
+
+    Raises:
+        MazeError: Naming the option and the formats it applies to.
+    """
+    for name in options.given():
+        if name not in FORMAT_OPTIONS[fmt]:
+            takers = ", ".join(other for other, names in FORMAT_OPTIONS.items() if name in names)
+            raise MazeError(f"--{name} does not apply to {fmt} exports (only to {takers})")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
-from mazegen.runtime.exporters import FORMATS
+from mazegen.runtime.exporters import FORMATS, check_options
 from mazegen.runtime.exporters.floor import ExportOptions, load_floor
 from mazegen.spec import Spec
 
@@ -49,14 +49,16 @@ def export_plan(
         fmt: A key of :data:`~mazegen.runtime.exporters.FORMATS`.
         out_dir: The directory to write into.
         spec: The scenarios' spec, if not found beside them.
-        options: Scale and cell size.
+        options: Scale and cell size (each only for the formats that read it).
 
     Raises:
-        MazeError: For an unknown format, or any scenario that cannot be read or exported.
+        MazeError: For an unknown format, an option the format does not read, or any scenario
+            that cannot be read or exported.
     """
     if fmt not in FORMATS:
         raise MazeError(f"unknown export format {fmt!r} (one of {', '.join(FORMATS)})")
     options = options or ExportOptions()
+    check_options(fmt, options)
     files: dict[Path, bytes] = {}
     for path, sub in scenario_files(source):
         floor = load_floor(path, spec)

@@ -31,13 +31,17 @@ from mazegen.runtime.engine.problem import read_build_spec
 from mazegen.runtime.geometry.cspace import Grid, grid_of, point_grid_of
 from mazegen.runtime.geometry.elements import ElementTable
 from mazegen.runtime.navigation.paths import free_cells
-from mazegen.spec import Spec
+from mazegen.spec import Arena, Spec
 
 METRES_PER_UNIT = {"mm": 0.001, "cm": 0.01, "m": 1.0, "px": 0.01}
 """Metres per arena unit; ``px`` has no physical size, so exports take 1 px = 1 cm."""
 
 MAX_CELLS_PER_SIDE = 4096
 """Largest grid side a grid export accepts: beyond it maps are too large to search."""
+
+SCALE_BOUNDS = (1e-6, 1000.0)
+"""Metres per arena unit an export accepts: from micrometres to kilometres, which the
+exports' six decimals of a metre and their coordinates can still write."""
 
 
 _UNSAFE = re.compile(r"[\s\x00-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
@@ -55,15 +59,31 @@ def safe_name(text: str) -> str:
 
 @dataclass(frozen=True)
 class ExportOptions:
-    """Settings of an export that are not in the scenario.
+    """Settings of an export that are not in the scenario, checked as they are made.
 
     Attributes:
         scale: Metres per arena unit, or None for the unit's own (:data:`METRES_PER_UNIT`).
-        cell: Cell size of a MovingAI map in arena units, or None for the engine's grid cell.
+        cell: Cell size of a grid map (ROS, MovingAI) in arena units, or None for the engine's grid cell.
+
+    Raises:
+        MazeError: For a scale outside :data:`SCALE_BOUNDS`, or a cell that is not a positive number.
     """
 
     scale: float | None = None
     cell: float | None = None
+
+    def __post_init__(self) -> None:
+        low, high = SCALE_BOUNDS
+        if self.scale is not None and not low <= self.scale <= high:  # NaN too
+            raise MazeError(
+                f"--scale must be from {low:g} to {high:g} metres per arena unit, got {self.scale:g}"
+            )
+        if self.cell is not None and not (math.isfinite(self.cell) and self.cell > 0):
+            raise MazeError(f"--cell must be a positive number of arena units, got {self.cell:g}")
+
+    def given(self) -> list[str]:
+        """The names of the options set (``["cell"]``)."""
+        return [name for name in ("scale", "cell") if getattr(self, name) is not None]
 
 
 @dataclass(frozen=True)
@@ -99,11 +119,9 @@ class Floor:
         """Metres per arena unit: ``options.scale``, else the arena unit's.
 
         Raises:
-            MazeError: For a scale that is not positive, or a unit of unknown size and no scale.
+            MazeError: For a unit of unknown size and no scale.
         """
         if options.scale is not None:
-            if not (math.isfinite(options.scale) and options.scale > 0):
-                raise MazeError(f"--scale must be a positive number of metres, got {options.scale:g}")
             return options.scale
         unit = self.arena.get("unit")
         if unit not in METRES_PER_UNIT:
@@ -129,34 +147,40 @@ class Floor:
         table = ElementTable.from_types(spec.scenario_elements)
         return population_from_document(spec, table, self.document, self.where)
 
-    def occupancy(self) -> tuple[np.ndarray, Grid]:
-        """``bool[rows, cols]``: the cells the elements occupy on the engine's grid (row 0 at y = 0).
+    def occupancy(self, cell: float | None = None) -> tuple[np.ndarray, Grid]:
+        """``bool[rows, cols]``: the cells the elements occupy on a grid of ``cell``, by default the
+        engine's (row 0 at y = 0).
 
         The engine's configuration space for a point robot: no disc dilation, and blocked
         only where elements touch, or for a partial edge cell whose centre lies outside the arena.
+
+        Raises:
+            MazeError: For a cell that gives too large a grid.
         """
-        grid = point_grid_of(self.needs_spec("an occupancy map").arena)
+        grid = point_grid_of(self._arena_of_cell(cell, "an occupancy map"))
         return ~free_cells(self.population, grid, 0), grid
 
     def configuration_space(self, cell: float | None) -> tuple[np.ndarray, Grid]:
         """``bool[rows, cols]`` free cells for the robot's centre, on a grid of ``cell`` (row 0 at y = 0).
 
         Raises:
-            MazeError: For a cell that is not positive or gives too large a grid.
+            MazeError: For a cell that gives too large a grid.
         """
-        arena = self.needs_spec("a grid map").arena
-        if cell is not None:
-            if not (math.isfinite(cell) and cell > 0):
-                raise MazeError(f"--cell must be a positive number of arena units, got {cell:g}")
-            sides = [math.ceil(side / cell - 1e-9) for side in (arena.width, arena.height)]
-            if max(sides) > MAX_CELLS_PER_SIDE:
-                raise MazeError(
-                    f"--cell {cell:g} gives a {sides[0]} x {sides[1]} grid; "
-                    f"at most {MAX_CELLS_PER_SIDE} cells a side: choose a larger cell"
-                )
-            arena = replace(arena, grid=cell)
-        grid = grid_of(arena)
+        grid = grid_of(self._arena_of_cell(cell, "a grid map"))
         return free_cells(self.population, grid, 0), grid
+
+    def _arena_of_cell(self, cell: float | None, what: str) -> Arena:
+        """The spec's arena with its grid of ``cell`` arena units (None: the spec's own grid)."""
+        arena = self.needs_spec(what).arena
+        if cell is None:
+            return arena
+        sides = [math.ceil(side / cell - 1e-9) for side in (arena.width, arena.height)]
+        if max(sides) > MAX_CELLS_PER_SIDE:
+            raise MazeError(
+                f"--cell {cell:g} gives a {sides[0]} x {sides[1]} grid; "
+                f"at most {MAX_CELLS_PER_SIDE} cells a side: choose a larger cell"
+            )
+        return replace(arena, grid=cell)
 
 
 def load_floor(path: Path, spec: Spec | None = None) -> Floor:

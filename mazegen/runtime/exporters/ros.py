@@ -44,12 +44,12 @@ def map_image(occupied: np.ndarray) -> bytes:
 
 
 def ros_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
-    """``NAME.pgm`` and ``NAME.yaml`` of a scenario.
+    """``NAME.pgm`` and ``NAME.yaml`` of a scenario, on a grid of ``options.cell`` (default the engine's).
 
     Raises:
         MazeError: When the scenario's spec is unknown or its unit has no size in metres.
     """
-    occupied, grid = floor.occupancy()
+    occupied, grid = floor.occupancy(options.cell)
     metres = floor.metres_per_unit(options)
     resolution = grid.cell * metres
     image = f"{floor.name}.pgm"

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.fileio import write_atomic
 from mazegen.runtime.engine.evolution import GenerationStats, RunState
 from mazegen.runtime.engine.population import PLACEMENT_GENES
@@ -248,7 +248,7 @@ class CheckpointStore:
         if warnings and foreign:
             raise MazeError(
                 "checkpoints of another build: were the files of experiment/ edited since the run started? "
-                "(restore them to resume, or start again with mazegen run --force)",
+                f"(restore them to resume, or start again with {option('run force')})",
                 filename=str(self.directory),
             )
         if warnings:

@@ -11,6 +11,7 @@ from mazegen.runtime.runs.experiment import Experiment, default_run_dir
 from mazegen.runtime.runs.launcher import ExperimentResult, Job, RunsInterrupted, run_jobs
 from mazegen.runtime.runs.progress import reporter_for
 from mazegen.runtime.runs.rejections import why_no_scenario
+from mazegen.text import printable
 
 
 def summary_lines(outcome: ExperimentResult) -> list[str]:
@@ -21,7 +22,7 @@ def summary_lines(outcome: ExperimentResult) -> list[str]:
             top = documents[0]
             lines.append(
                 f"run {number}: best fitness {top['fitness']:g}, {len(top['elements'])} elements: "
-                f"{top['phenotype']}"
+                f"{printable(top['phenotype'])}"  # the grammar's text: control characters too
             )
             continue
         why = [] if outcome.run_dir is None else why_no_scenario(outcome.run_dir, number)
@@ -72,7 +73,7 @@ def main(build_dir: Path, argv: list[str] | None = None) -> int:
             reporter=reporter,
         )
     except MazeError as error:
-        print(error, file=sys.stderr)
+        print(error.render(command_line=True), file=sys.stderr)
         return 1
     except RunsInterrupted:
         print(f"interrupted; continue with: mazegen resume {out}", file=sys.stderr)

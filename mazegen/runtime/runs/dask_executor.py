@@ -15,7 +15,7 @@ from dataclasses import replace
 from time import monotonic
 from typing import Any
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.runtime.engine.evolution import GenerationStats
 from mazegen.runtime.runs.executors import PooledExecutor, ProgressBatch
 from mazegen.runtime.runs.worker import RunKey, RunOutcome, RunTask, run_task
@@ -83,7 +83,7 @@ class DaskExecutor(PooledExecutor):
             from distributed import Client, Event
         except ImportError:
             raise MazeError(
-                "--executor dask needs the distributed package: pip install 'mazegen[dask]'"
+                f"{option('executor dask')} needs the distributed package: pip install 'mazegen[dask]'"
             ) from None
         _check_address(scheduler)
         super().__init__(queue.Queue())

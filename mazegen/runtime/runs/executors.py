@@ -34,7 +34,7 @@ try:
 except ImportError:  # Windows: the watching thread alone
     fcntl = None  # type: ignore[assignment]
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.runtime.engine.evolution import GenerationStats
 from mazegen.runtime.runs.worker import RunKey, RunOutcome, RunTask, run_task
 
@@ -270,7 +270,7 @@ class LocalExecutor(PooledExecutor):
 
     def __init__(self, *, workers: int, threads_per_worker: int | None = None) -> None:
         if workers < 1:
-            raise MazeError(f"--workers must be at least 1, got {workers}")
+            raise MazeError(f"{option('workers')} must be at least 1, got {workers}")
         context = process_context()
         super().__init__(context.Queue())
         self._stop = context.Event()

@@ -16,7 +16,7 @@ import numba
 import numpy as np
 
 from mazegen.version import __version__
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, brief
 from mazegen.runtime.engine.problem import Problem
 from mazegen.runtime.runs.results import json_text
 from mazegen.runtime.runs.worker import BuildFiles
@@ -37,19 +37,12 @@ class Experiment:
         return cls(Problem.from_build_dir(build_dir))
 
     def with_settings(self, **overrides: Any) -> Experiment:
-        """A copy whose evolution settings are overridden (``None`` values are ignored).
+        """A copy whose evolution settings are overridden (see :func:`with_overrides`).
 
         Raises:
             MazeError: for a value out of its bounds (``--population 0``).
         """
-        for key, value in overrides.items():
-            problem = None if value is None or key not in EVOLUTION_BOUNDS else out_of_bounds(key, value)
-            if problem is not None:
-                raise MazeError(f"--{key} {problem}, got {value}")
-        spec = self.problem.spec.with_evolution(**overrides)
-        if spec.evolution.elitism >= spec.evolution.population:
-            spec = spec.with_evolution(elitism=spec.evolution.population - 1)
-        return Experiment(replace(self.problem, spec=spec))
+        return Experiment(replace(self.problem, spec=with_overrides(self.problem.spec, **overrides)))
 
     def record(self) -> dict[str, Any]:
         """The resolved experiment: settings, seeds and software versions."""
@@ -90,6 +83,29 @@ class Experiment:
             elif source.is_file():
                 files[f"experiment/{name}"] = source.read_bytes()
         return files
+
+
+def with_overrides(spec: Spec, **overrides: Any) -> Spec:
+    """``spec`` with evolution settings overridden (``None`` values are ignored), the elitism
+    lowered below a smaller population.
+
+    Raises:
+        MazeError: for a value out of its bounds (``--population 0``), or a population too
+            large for the genome.
+    """
+    given = {key: value for key, value in overrides.items() if value is not None}
+    for key, value in given.items():
+        problem = out_of_bounds(key, value) if key in EVOLUTION_BOUNDS else None
+        if problem is not None:
+            raise MazeError(f"--{key} {problem}, got {brief(value)}")
+    try:
+        spec = spec.with_evolution(**given)
+    except ValueError as error:  # settings within bounds alone but not together (population x genome)
+        options = " ".join(f"--{key} {value}" for key, value in given.items())
+        raise MazeError(f"{options}: {error}") from None
+    if spec.evolution.elitism >= spec.evolution.population:
+        spec = spec.with_evolution(elitism=spec.evolution.population - 1)
+    return spec
 
 
 def default_run_dir(spec: Spec) -> Path:

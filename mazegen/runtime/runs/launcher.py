@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.fileio import make_folder
 from mazegen.runtime.catalog.catalog import Catalog, default_catalog
 from mazegen.runtime.runs.checkpoint import CheckpointPolicy, CheckpointShape, CheckpointStore
@@ -407,12 +407,13 @@ def executor_for(
     if kind not in EXECUTORS:
         raise MazeError(f"unknown executor '{kind}' (choose {', '.join(EXECUTORS)})")
     if (kind == "dask") != (scheduler is not None):
-        raise MazeError("--scheduler goes with --executor dask, and --executor dask needs --scheduler")
+        dask, scheduler = option("executor dask"), option("scheduler")
+        raise MazeError(f"{scheduler} goes with {dask}, and {dask} needs {scheduler}")
     if kind == "dask":
         from mazegen.runtime.runs.dask_executor import DaskExecutor  # the optional 'dask' extra
 
         return DaskExecutor(scheduler=str(scheduler))
     count = min(workers or available_cores(), runs)
     if workers is not None and workers < 1:
-        raise MazeError(f"--workers must be at least 1, got {workers}")
+        raise MazeError(f"{option('workers')} must be at least 1, got {workers}")
     return SerialExecutor() if kind == "serial" or count <= 1 else LocalExecutor(workers=count)

@@ -40,7 +40,7 @@ try:
 except ImportError:  # Windows: run directories are not locked
     fcntl = None  # type: ignore[assignment]
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.fileio import FOLDER_MODE, disk_errors, make_folder, write_atomic
 from mazegen.runtime.engine.evolution import GenerationStats, RunResult
 from mazegen.runtime.reports.render import scenario_svg
@@ -114,8 +114,8 @@ def staged_directory(target: Path, *, force: bool, kind: str = "") -> Iterator[P
         raise MazeError("output directory is a file", filename=str(target))
     if target.exists() and any(target.iterdir()) and not force:
         raise MazeError(
-            "output directory already exists and is not empty (use --force to replace it, "
-            "or -o to choose another)",
+            f"output directory already exists and is not empty (use {option('force')} to replace it, "
+            f"or {option('out_dir')} to choose another)",
             filename=str(target),
         )
     stage = _stage(target, kind)
@@ -237,8 +237,9 @@ class RunDirectory:
             if any(path.iterdir()) and not force:
                 existing.close()
                 raise MazeError(
-                    "output directory already exists and is not empty (use --force to replace it, "
-                    "-o to choose another, or mazegen resume to continue an interrupted run)",
+                    f"output directory already exists and is not empty (use {option('force')} to replace "
+                    f"it, {option('out_dir')} to choose another, or {option('resume')} to continue an "
+                    "interrupted run)",
                     filename=str(path),
                 )
         directory: RunDirectory | None = None

@@ -13,14 +13,14 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.runtime.runs.experiment import BUILD_FILES, Experiment
 from mazegen.runtime.runs.results import RunDirectory
 
 NEEDED = tuple(name for name in BUILD_FILES if name != "experiment.py")
 """The build files a resume loads (``experiment.py`` only runs a build by hand)."""
 
-RESTORE = "restore it to resume, or start again with mazegen run --force"
+RESTORE = f"restore it to resume, or start again with {option('run force')}"
 
 
 def resumable_experiment(run_dir: Path, *, copy_to: Path) -> Experiment:

@@ -22,7 +22,7 @@ from typing import Any, Protocol
 import numba
 import numpy as np
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, option
 from mazegen.runtime.runs.checkpoint import (
     CheckpointPolicy,
     CheckpointShape,
@@ -194,7 +194,7 @@ def _writing_checkpoints(task: RunTask) -> Iterator[None]:
         # The message holds the path: exceptions cross back to the launcher by pickling.
         raise MazeError(
             f"{folder.parent}: a worker cannot see the run directory; checkpoints need "
-            "a folder shared with the workers (or --checkpoint-every 0)"
+            f"a folder shared with the workers (or {option('checkpoint_every 0')})"
         )
     with writing_checkpoints(folder):
         yield

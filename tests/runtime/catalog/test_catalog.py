@@ -141,6 +141,27 @@ def test_catalog_paths_that_are_not_catalogs(tmp_path):
         Catalog.open(tmp_path / "other.sqlite", create=True)
 
 
+@pytest.mark.parametrize(
+    ("damage", "message"),
+    [
+        ("DROP TABLE metrics", "the catalog is damaged: it has no table 'metrics'"),
+        ("DROP TABLE runs", "the catalog is damaged: it has no table 'runs'"),
+        ("ALTER TABLE scenarios DROP COLUMN fitness", "the catalog is damaged: no such column: s.fitness"),
+        ("ALTER TABLE runs DROP COLUMN best", "the catalog is damaged: no such column: r.best"),
+    ],
+)
+def test_a_damaged_catalog_is_one_line(tmp_path, damage, message):
+    path = tmp_path / "catalog.sqlite"
+    Catalog.open(path, create=True).close()
+    with sqlite3.connect(path) as db:
+        db.execute(damage)
+    db.close()
+    command = "runs" if "runs" in damage else "scenarios"
+    result = CliRunner().invoke(main, [command, "--catalog", str(path)])
+    assert not isinstance(result.exception, Exception), result.exception
+    assert result.exit_code == 1 and result.stderr.splitlines() == [f"{path}: {message}"]
+
+
 def test_concurrent_writers_lose_nothing(tmp_path):
     path = str(tmp_path / "catalog.sqlite")
     context = multiprocessing.get_context("spawn")

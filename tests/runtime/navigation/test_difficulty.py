@@ -24,7 +24,7 @@ from mazegen.runtime.navigation.difficulty import (
 )
 from mazegen.runtime.navigation.paths import free_cells, navigate, path_of
 from mazegen.spec import Arena
-from tests.runtime.floors import ARENA, NAMES, pack, population, random_floors
+from tests.runtime.floors import ARENA, NAMES, ZIGZAG, pack, population, random_floors
 
 
 def blocked(free: np.ndarray, r: int, c: int) -> bool:
@@ -154,8 +154,7 @@ def test_open_floor_is_easy_and_straight():
 
 def test_walls_make_a_floor_harder_on_every_metric():
     """Zig-zag walls: a longer, narrower, more broken path than the open floor."""
-    walls = [("vwall", 330, 225, 20, 450, 0), ("vwall", 660, 375, 20, 450, 0)]
-    found = survey(population(ARENA, [[], walls]))
+    found = survey(population(ARENA, [[], ZIGZAG]))
     open_floor, maze = (dict(zip(METRICS, row)) for row in found.table)
     assert maze["tortuosity"] > 1.3 > open_floor["tortuosity"]
     assert maze["clearance"] < open_floor["clearance"]

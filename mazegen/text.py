@@ -1,0 +1,60 @@
+"""Text from users' files: made safe to print on one terminal line, and grammar escapes decoded."""
+
+from __future__ import annotations
+
+import codecs
+import warnings
+
+_NAMED = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
+
+ELLIPSIS = "..."
+
+
+def _escape(char: str) -> str:
+    code = ord(char)
+    if char in _NAMED:
+        return _NAMED[char]
+    if code < 0x100:
+        return f"\\x{code:02x}"
+    return f"\\u{code:04x}" if code < 0x10000 else f"\\U{code:08x}"
+
+
+def printable(text: str, *, limit: int | None = None) -> str:
+    """``text`` with every non-printable character escaped (``\\n``, ``\\x1b``, ``\\u202e``...),
+    cut to ``limit`` characters plus an ellipsis when longer.
+
+    Control characters in a spec, a phenotype or a file name would otherwise split a one-line
+    message or drive the user's terminal (retitle it, clear it); the cut keeps a message that
+    quotes a huge token short.
+    """
+    pieces: list[str] = []
+    size = 0
+    for char in text:
+        piece = char if char.isprintable() else _escape(char)
+        if limit is not None and size + len(piece) > limit:
+            return "".join(pieces) + ELLIPSIS
+        pieces.append(piece)
+        size += len(piece)
+    return "".join(pieces)
+
+
+def quoted(text: str, *, limit: int = 40) -> str:
+    """``'text'`` for a message: printable and cut to ``limit`` characters."""
+    return f"'{printable(text, limit=limit)}'"
+
+
+def decode_escapes(part: str) -> str:
+    """Decode backslash escapes (``\\n``, ``\\u00e9``...) like PonyGE2's ``unicode-escape`` step,
+    as grammar terminals are read; the language checks grammar text with it too.
+
+    Raises:
+        ValueError: for a malformed escape, saying why (``truncated \\xXX escape``).
+    """
+    if "\\" not in part:
+        return part
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)
+            return codecs.decode(part.encode("latin-1", "backslashreplace"), "unicode-escape")
+    except UnicodeDecodeError as exc:
+        raise ValueError(exc.reason) from None

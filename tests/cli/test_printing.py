@@ -1,0 +1,44 @@
+"""What a spec's grammar text derives reaches the terminal escaped: no spec can drive the terminal."""
+
+from __future__ import annotations
+
+from click.testing import CliRunner
+
+from mazegen.cli.main import main
+
+# The grammar's text escapes decode to ESC ] 0 ; TITLE BEL: a terminal would take the title.
+TITLE_SPEC = """
+element box { shape square size 20..40 }
+arena floor { size 1000 x 800 cm start (50, 50) goal (950, 750) robot radius 20 }
+scenario s on floor { grammar custom { <s> ::= box "\\x1b]0;TITLE\\x07" } max elements 4 }
+evolution { population 10 generations 0 }
+"""
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(main, list(args), catch_exceptions=False)
+
+
+def test_map_prints_control_characters_escaped(write_spec):
+    result = invoke("map", str(write_spec(TITLE_SPEC)), "0")
+    assert result.exit_code == 0, result.output
+    assert result.output == "box\\x1b]0;TITLE\\x07\t1 codons\n"
+
+
+def test_run_prints_the_best_phenotype_escaped(write_spec, tmp_path):
+    result = invoke(
+        "run", str(write_spec(TITLE_SPEC)), "--executor", "serial", "-q", "-o", str(tmp_path / "run")
+    )
+    assert result.exit_code == 0, result.output
+    assert "\x1b" not in result.output and "\x07" not in result.output
+    assert "box\\x1b]0;TITLE\\x07" in result.output
+
+
+def test_check_prints_a_file_name_with_control_characters_escaped(write_spec):
+    good = write_spec(TITLE_SPEC, name="we\x1b]0;TITLE\x07ird.maze")
+    bad = write_spec("elemnt", name="ba\x1b[2Jd.maze")
+    result = CliRunner().invoke(main, ["check", str(good), str(bad)])
+    assert result.exit_code == 1
+    assert "\x1b" not in result.output and "\x07" not in result.output
+    assert "we\\x1b]0;TITLE\\x07ird.maze: OK" in result.output
+    assert "ba\\x1b[2Jd.maze:1:1: expected" in result.output
