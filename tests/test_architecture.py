@@ -107,3 +107,26 @@ def test_a_cycle_through_a_function_level_import_is_found(tmp_path):
     (package / "b.py").write_text("def helper():\n    from . import c\n")
     (package / "c.py").write_text("def late():\n    import pkg.a\n")
     assert cycles(imports_of(package)) == [{"pkg.a", "pkg.b", "pkg.c"}]
+
+
+ROOMS = ("engine", "geometry", "navigation", "documents", "reports", "runs", "catalog", "campaigns")
+
+
+def test_each_room_states_its_public_names_and_each_resolves():
+    import importlib
+
+    for room in ROOMS:
+        package = importlib.import_module(f"mazegen.runtime.{room}")
+        assert package.__all__ == sorted(package.__all__), room
+        for name in package.__all__:
+            home = getattr(
+                getattr(package, name), "__module__", f"mazegen.runtime.{room}."
+            )  # constants have none
+            assert home.startswith(f"mazegen.runtime.{room}."), (room, name)
+
+
+def test_a_module_of_a_room_imports_only_what_it_needs():
+    """A room's public names load on first use: a run does not pay for the reports' matplotlib."""
+    probe = "import sys, mazegen.runtime.runs.launcher; print('matplotlib' in sys.modules)"
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == "False"

@@ -5,13 +5,18 @@ and the problem (a build's spec, grammar and fitness module) that ties them toge
 See ``docs/architecture.md`` for where this sits among the runtime's rooms.
 """
 
-from mazegen.runtime.engine.bnf import Grammar, parse_bnf, read_bnf
-from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
-from mazegen.runtime.engine.compiled_grammar import CompiledGrammar, compile_grammar
-from mazegen.runtime.engine.evolution import GenerationStats, RunResult, breed, evolve
-from mazegen.runtime.engine.mapping import PopulationMap, map_genome, map_population, phenotype
-from mazegen.runtime.engine.population import Population, Ranges, decode
-from mazegen.runtime.engine.problem import Evaluation, Problem, Workspace
+from typing import TYPE_CHECKING
+
+from mazegen.lazy import lazy_names
+
+if TYPE_CHECKING:
+    from mazegen.runtime.engine.bnf import Grammar, parse_bnf, read_bnf
+    from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
+    from mazegen.runtime.engine.compiled_grammar import CompiledGrammar, compile_grammar
+    from mazegen.runtime.engine.evolution import GenerationStats, RunResult, breed, evolve
+    from mazegen.runtime.engine.mapping import PopulationMap, map_genome, map_population, phenotype
+    from mazegen.runtime.engine.population import Population, Ranges, decode
+    from mazegen.runtime.engine.problem import Evaluation, Problem, Workspace
 
 __all__ = [
     "CompiledGrammar",
@@ -36,3 +41,16 @@ __all__ = [
     "phenotype",
     "read_bnf",
 ]
+
+__getattr__ = lazy_names(
+    __name__,
+    {
+        "bnf": ["Grammar", "parse_bnf", "read_bnf"],
+        "cache": ["EvaluationCache", "genome_hashes"],
+        "compiled_grammar": ["CompiledGrammar", "compile_grammar"],
+        "evolution": ["GenerationStats", "RunResult", "breed", "evolve"],
+        "mapping": ["PopulationMap", "map_genome", "map_population", "phenotype"],
+        "population": ["Population", "Ranges", "decode"],
+        "problem": ["Evaluation", "Problem", "Workspace"],
+    },
+)

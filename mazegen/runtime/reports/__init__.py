@@ -4,8 +4,22 @@ and sweeps.
 See ``docs/architecture.md`` for where this sits among the runtime's rooms.
 """
 
-from mazegen.runtime.reports.render import render_file, scenario_png, scenario_svg
-from mazegen.runtime.reports.report import read_run, report_html
-from mazegen.runtime.reports.report_folders import folder_report
+from typing import TYPE_CHECKING
+
+from mazegen.lazy import lazy_names
+
+if TYPE_CHECKING:
+    from mazegen.runtime.reports.render import render_file, scenario_png, scenario_svg
+    from mazegen.runtime.reports.report import read_run, report_html
+    from mazegen.runtime.reports.report_folders import folder_report
 
 __all__ = ["folder_report", "read_run", "render_file", "report_html", "scenario_png", "scenario_svg"]
+
+__getattr__ = lazy_names(
+    __name__,
+    {
+        "render": ["render_file", "scenario_png", "scenario_svg"],
+        "report": ["read_run", "report_html"],
+        "report_folders": ["folder_report"],
+    },
+)

@@ -4,21 +4,26 @@ serial, Dask), the worker, checkpoints, run directories, resuming, progress and 
 See ``docs/architecture.md`` for where this sits among the runtime's rooms.
 """
 
-from mazegen.runtime.runs.experiment import BUILD_FILES, Experiment, default_run_dir
-from mazegen.runtime.runs.launcher import (
-    ExperimentResult,
-    Job,
-    RunsInterrupted,
-    executor_for,
-    launch,
-    run_jobs,
-)
-from mazegen.runtime.runs.executors import Executor, LocalExecutor, SerialExecutor
-from mazegen.runtime.runs.results import RunDirectory
-from mazegen.runtime.runs.resumable import resumable_experiment
-from mazegen.runtime.runs.progress import Reporter, reporter_for
-from mazegen.runtime.runs.warmup import compile_kernels
-from mazegen.runtime.runs.command_line import main
+from typing import TYPE_CHECKING
+
+from mazegen.lazy import lazy_names
+
+if TYPE_CHECKING:
+    from mazegen.runtime.runs.experiment import BUILD_FILES, Experiment, default_run_dir
+    from mazegen.runtime.runs.launcher import (
+        ExperimentResult,
+        Job,
+        RunsInterrupted,
+        executor_for,
+        launch,
+        run_jobs,
+    )
+    from mazegen.runtime.runs.executors import Executor, LocalExecutor, SerialExecutor
+    from mazegen.runtime.runs.results import RunDirectory
+    from mazegen.runtime.runs.resumable import resumable_experiment
+    from mazegen.runtime.runs.progress import Reporter, reporter_for
+    from mazegen.runtime.runs.warmup import compile_kernels
+    from mazegen.runtime.runs.command_line import main
 
 __all__ = [
     "BUILD_FILES",
@@ -40,3 +45,17 @@ __all__ = [
     "resumable_experiment",
     "run_jobs",
 ]
+
+__getattr__ = lazy_names(
+    __name__,
+    {
+        "experiment": ["BUILD_FILES", "Experiment", "default_run_dir"],
+        "launcher": ["ExperimentResult", "Job", "RunsInterrupted", "executor_for", "launch", "run_jobs"],
+        "executors": ["Executor", "LocalExecutor", "SerialExecutor"],
+        "results": ["RunDirectory"],
+        "resumable": ["resumable_experiment"],
+        "progress": ["Reporter", "reporter_for"],
+        "warmup": ["compile_kernels"],
+        "command_line": ["main"],
+    },
+)
