@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from mazegen.dsl.loader import load_spec
+from mazegen.errors import MazeError
 from mazegen.generator.build import build as build_files
 from mazegen.spec import Spec
 
@@ -185,8 +186,11 @@ def sweep(
     """
     from mazegen.runtime.experiment import Experiment
     from mazegen.runtime.launcher import Job, run_jobs
-    from mazegen.runtime.sweep import Axis, plan_cells
+    from mazegen.runtime.sweep import MAX_CELLS, Axis, plan_cells
 
+    for name, values in settings.items():
+        if len(values) > MAX_CELLS:  # counted before a range of a billion seeds is spelled out
+            raise MazeError(f"{name}: {len(values)} values; a sweep has at most {MAX_CELLS} cells")
     axes = [Axis.parse(f"{name}={','.join(map(str, values))}") for name, values in settings.items()]
     resolved = [spec if isinstance(spec, Spec) else load_spec(spec) for spec in specs]
     if runs is not None:
