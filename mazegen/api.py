@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from mazegen.dsl.loader import load_spec
+from mazegen.errors import MazeError
 from mazegen.generator.build import build as build_files
 from mazegen.spec import Spec
 
@@ -183,10 +184,13 @@ def sweep(
         MazeError: for an unknown setting, a value out of bounds, or a cell directory that
             holds another experiment (without ``force``).
     """
-    from mazegen.runtime.campaigns.sweep import Axis, plan_cells
+    from mazegen.runtime.campaigns.sweep import MAX_CELLS, Axis, plan_cells
     from mazegen.runtime.runs.experiment import Experiment
     from mazegen.runtime.runs.launcher import Job, run_jobs
 
+    for name, values in settings.items():
+        if len(values) > MAX_CELLS:  # counted before a range of a billion seeds is spelled out
+            raise MazeError(f"{name}: {len(values)} values; a sweep has at most {MAX_CELLS} cells")
     axes = [Axis.parse(f"{name}={','.join(map(str, values))}") for name, values in settings.items()]
     resolved = [spec if isinstance(spec, Spec) else load_spec(spec) for spec in specs]
     if runs is not None:

@@ -61,3 +61,8 @@ def test_sweep_then_resume_from_python(tmp_path):
     assert [result for _, result in mazegen.sweep([spec], settings, out_dir=tmp_path / "sweep")] == [None] * 2
     with pytest.raises(MazeError, match="finished: nothing to resume"):
         mazegen.resume(cells[0][0])
+
+
+def test_a_sweep_too_large_is_refused_before_its_values_are_spelled_out(tmp_path):
+    with pytest.raises(MazeError, match="seed: 999999999 values; a sweep has at most 10000 cells"):
+        mazegen.sweep([EXAMPLES / "factory.maze"], {"seed": range(1, 10**9)}, out_dir=tmp_path)

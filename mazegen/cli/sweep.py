@@ -50,7 +50,9 @@ def sweep(
     are skipped and interrupted ones resumed.
     """
     from mazegen import api
+    from mazegen.errors import MazeError
     from mazegen.runtime.campaigns.sweep import parse_axes
+    from mazegen.runtime.runs.command_line import NO_SCENARIO, summary_lines
     from mazegen.runtime.runs.progress import reporter_for
 
     parsed = parse_axes(axes)
@@ -74,6 +76,13 @@ def sweep(
             click.echo(f"{run_dir.name}: finished earlier, skipped")
             continue
         bests = [documents[0]["fitness"] for documents in outcome.best if documents]
-        best = f"best fitness {max(bests):g}" if bests else "no valid scenario"
-        click.echo(f"{run_dir.name}: {len(outcome.best)} runs, {best}")
+        if bests:
+            click.echo(f"{run_dir.name}: {len(outcome.best)} runs, best fitness {max(bests):g}")
+            continue
+        click.echo(f"{run_dir.name}: {len(outcome.best)} runs, no valid scenario")
+        for line in summary_lines(outcome):  # why, run by run
+            click.echo(f"  {line}")
     click.echo(f"wrote {target}")
+    ran = [outcome for _, outcome in cells if outcome is not None]
+    if ran and not any(any(outcome.best) for outcome in ran):
+        raise MazeError(NO_SCENARIO)

@@ -218,6 +218,22 @@ def test_a_run_without_a_valid_scenario_says_why_and_fails(tmp_path, write_spec)
     assert (tmp_path / "run" / "stats.csv").is_file()  # the run itself is whole
 
 
+def test_a_sweep_without_a_valid_scenario_says_why_and_fails(tmp_path, write_spec):
+    spec = write_spec(OVERSIZED.replace("GENOME", "32").replace("runs 2", "runs 1"))
+    args = ["sweep", str(spec), "--set", "seed=1,2", "-q", "--executor", "serial", "-o", str(tmp_path / "s")]
+    result = invoke(*args)
+    assert result.exit_code == 1
+    lines = result.stdout.splitlines()
+    assert lines[:3] == [
+        "blocks-seed1: 1 runs, no valid scenario",
+        "  run 1: no valid scenario; of its final generation's 40 individuals,",
+        "    100 % rejected by outside reject: elements not wholly inside the arena "
+        "(are they larger than the arena, or placed beyond it?)",
+    ]
+    assert lines[3] == "blocks-seed2: 1 runs, no valid scenario"
+    assert result.stderr.splitlines() == ["no run produced a valid scenario (see why above)"]
+
+
 def test_a_run_of_genomes_too_short_says_so(tmp_path, write_spec):
     # One codon: half the genomes pick a composed element and run out of codons, the others
     # make one block, larger than the arena.
