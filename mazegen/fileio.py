@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import json
 import os
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 from mazegen.errors import MazeError
 
@@ -77,3 +79,12 @@ def read_text(path: Path, what: str) -> str:
         raise MazeError(f"cannot read {what}: {error.strerror or error}", filename=str(path)) from None
     except UnicodeDecodeError:
         raise MazeError(f"cannot read {what}: not UTF-8 text", filename=str(path)) from None
+
+
+def json_value(text: str) -> Any:
+    """``json.loads``, every kind of damage a :class:`ValueError`: nesting too deep for the parser
+    (a ``RecursionError``) too, so that readers of MazeGen's own files catch one exception."""
+    try:
+        return json.loads(text)
+    except RecursionError:
+        raise ValueError("nested too deeply") from None

@@ -20,6 +20,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from mazegen.fileio import json_value
+
 Point = tuple[float, float]
 
 SPEC_FORMAT_VERSION = 1
@@ -310,7 +312,7 @@ class Spec:
     @classmethod
     def from_json(cls, text: str) -> Spec:
         """Rebuild a Spec from :meth:`to_json` output."""
-        data = json.loads(text)
+        data = json_value(text)
         data.pop("format", None)
         data.pop("version", None)
         return _spec_from_dict(data)

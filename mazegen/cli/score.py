@@ -96,10 +96,11 @@ def scenario_files(paths: tuple[Path, ...]) -> list[Path]:
 def _may_be_scenario(path: Path) -> bool:
     """False for JSON files of another format; a file that cannot be read stays, to be reported."""
     from mazegen.runtime.documents.scenario import FORMAT
+    from mazegen.runtime.documents.scenario_rules import read_json
 
     try:
-        document = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError, RecursionError):
+        document = read_json(path)  # bounded: a huge or deep file in the folder is refused, not loaded
+    except MazeError:
         return True
     return not isinstance(document, dict) or document.get("format") == FORMAT
 

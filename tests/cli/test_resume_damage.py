@@ -60,6 +60,14 @@ DAMAGE = {
         lambda run: (run / "experiment.json").write_text(json.dumps({"format": "mazegen-run"})),
         "run/experiment.json: damaged experiment.json: it does not record the experiment",
     ),
+    "experiment.json nested too deeply": (
+        lambda run: (run / "experiment.json").write_text("[" * 100_000),
+        "run/experiment.json: damaged experiment.json (nested too deeply",
+    ),
+    "spec.json nested too deeply": (
+        lambda run: (run / "experiment" / "spec.json").write_text("[" * 100_000),
+        "run/experiment/spec.json: damaged spec.json (ValueError: nested too deeply",
+    ),
     "fitness.py raises as it loads": (
         lambda run: (run / "experiment" / "fitness.py").write_text("raise RuntimeError('edited')\n"),
         "run/experiment/fitness.py: fitness module raised RuntimeError as it loads: edited",

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import csv
 import io
-import json
 import math
 import warnings
 from collections import Counter
@@ -27,7 +26,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from mazegen.errors import MazeError
-from mazegen.fileio import read_text
+from mazegen.fileio import json_value, read_text
 from mazegen.runtime.documents.scenario import read_document
 from mazegen.runtime.reports.report_html import (
     Saved,
@@ -74,9 +73,9 @@ class RunDirectory:
 
 def _json(path: Path, what: str) -> dict[str, Any]:
     try:
-        data = json.loads(read_text(path, what))
-    except json.JSONDecodeError as error:
-        raise MazeError(f"damaged {what}: {error.msg}", filename=str(path)) from None
+        data = json_value(read_text(path, what))
+    except ValueError as error:  # JSONDecodeError among them
+        raise MazeError(f"damaged {what}: {getattr(error, 'msg', error)}", filename=str(path)) from None
     if not isinstance(data, dict):
         raise MazeError(f"damaged {what}: not a JSON object", filename=str(path))
     return data

@@ -11,13 +11,12 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.fileio import read_text
+from mazegen.fileio import json_value, read_text
 from mazegen.runtime.documents.scenario import read_document
 from mazegen.runtime.reports.report import (
     RunDirectory,
@@ -54,7 +53,7 @@ def suite_html(path: Path, *, links_from: Path) -> str:
     """The page of a suite folder: the spec, the archive's heatmap, every scenario."""
     spec = read_spec(path / "spec.json")
     try:
-        archive = json.loads(read_text(path / "archive.json", "archive.json"))
+        archive = json_value(read_text(path / "archive.json", "archive.json"))
         filled = f"{int(archive['filled'])} archive cells filled"
     except (ValueError, KeyError, TypeError):
         raise MazeError("damaged archive.json", filename=str(path / "archive.json")) from None

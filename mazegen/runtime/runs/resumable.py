@@ -7,13 +7,13 @@ the copy, which is gone when the message is read.
 
 from __future__ import annotations
 
-import json
 import shutil
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
 from mazegen.errors import MazeError, option
+from mazegen.fileio import json_value
 from mazegen.runtime.runs.experiment import BUILD_FILES, Experiment
 from mazegen.runtime.runs.results import RunDirectory
 
@@ -66,7 +66,7 @@ def _check_record(path: Path, experiment: Experiment) -> None:
     """Raise a :class:`MazeError` unless ``experiment.json`` records ``experiment``'s settings."""
     expected = experiment.record()
     try:
-        written = json.loads(path.read_text(encoding="utf-8"))
+        written = json_value(path.read_text(encoding="utf-8"))
     except (OSError, ValueError) as error:
         raise MazeError(f"damaged experiment.json ({error}; {RESTORE})", filename=str(path)) from None
     versions = "versions"  # a resume may run on newer software

@@ -110,6 +110,16 @@ def test_not_a_run_directory(tmp_path):
         read_run(tmp_path)
 
 
+@pytest.mark.parametrize(
+    ("name", "what"), [("experiment.json", "experiment.json"), ("experiment/spec.json", "spec.json")]
+)
+def test_a_run_file_nested_too_deeply_is_one_line(factory_run, tmp_path, name, what):
+    run = shutil.copytree(factory_run, tmp_path / "run")
+    (run / name).write_text("[" * 100_000)  # deeper than the JSON parser can go
+    with pytest.raises(MazeError, match=f"damaged {what}: nested too deeply"):
+        read_run(run)
+
+
 @pytest.mark.skipif(
     shutil.which("chromium") is None,
     reason="chromium is not installed (Debian: chromium; .ci/run installs it)",
