@@ -174,7 +174,9 @@ class FitnessTerm:
     size limit. ``reject`` makes an individual invalid instead of penalised.
     ``target`` is the ``(low, high)`` range a difficulty, metric or coverage term
     rewards closeness to; ``metric`` names the metric of a ``metric`` term, or
-    ``entropy`` / ``types`` for a diversity term.
+    ``entropy`` / ``types`` for a diversity term. A ``drive`` term reads how the robot
+    fares under ``controllers`` (one name, two for ``disagree``); its ``metric`` is one of
+    :data:`DRIVE_MEASURES`.
     """
 
     kind: str
@@ -183,11 +185,98 @@ class FitnessTerm:
     reject: bool = False
     target: tuple[float, float] | None = None
     metric: str | None = None
+    controllers: tuple[str, ...] = ()
 
     @property
     def key(self) -> str:
         """The term's name in fitness breakdowns: its kind, or its metric's name."""
         return self.metric if self.kind == "metric" and self.metric else self.kind
+
+
+DRIVE_MEASURES = ("fails", "time", "clearance", "disagree")
+"""What a ``drive`` fitness term reads of the episodes (see docs/language.md)."""
+
+METRES_PER_UNIT = {"m": 1.0, "cm": 0.01, "mm": 0.001}
+"""Length units with a known size; a ``px`` arena is sized by its robot (:func:`metres_per_unit`)."""
+
+ROBOT_RADIUS_METRES = 0.25
+"""The radius of the robot the default limits are for (a Clearpath Jackal, as in the BARN challenge)."""
+
+
+def metres_per_unit(arena: Arena) -> float:
+    """Metres in one arena unit: the unit's size, or for ``px`` the robot taken as Jackal-sized."""
+    return METRES_PER_UNIT.get(arena.unit, ROBOT_RADIUS_METRES / arena.robot_radius)
+
+
+@dataclass(frozen=True)
+class ControllerSpec:
+    """A controller the spec drives the robot with: a bundled name (``dwa``), a dotted path to a
+    user's policy, or a name a package registers under the ``mazegen.controllers`` entry point.
+    ``params`` overrides its documented parameters, in arena units and seconds."""
+
+    name: str
+    params: tuple[tuple[str, float], ...] = ()
+
+
+@dataclass(frozen=True)
+class Robot:
+    """The driven robot: a disc of the arena's robot radius with unicycle kinematics.
+
+    Lengths are in arena units, times in seconds, angles in radians. :func:`robot_for` gives the
+    defaults for an arena (the BARN challenge's Jackal limits scaled to the arena's unit).
+
+    Attributes:
+        max_speed: Largest forward speed; ``min_speed`` the smallest (0: the robot may stop).
+        max_turn: Largest turn rate, either way.
+        accel: Largest change of speed per second; ``turn_accel`` of turn rate.
+        step: Simulation time step.
+        goal_tolerance: An episode arrives when the centre is this close to the goal.
+        timeout: An episode times out after ``timeout`` times the optimal time (path length over
+            ``max_speed``); ``stuck`` seconds without getting closer to the goal also end it.
+        beams, fov, lidar_range: The 2D lidar: beams spread evenly over ``fov`` radians centred
+            on the heading, each reading up to ``lidar_range``.
+        driven: Who is driven in an evolution: the best fraction of each generation among those
+            the static terms keep (1 = every individual).
+        controllers: The controllers the spec names, with their parameter overrides.
+    """
+
+    max_speed: float
+    min_speed: float
+    max_turn: float
+    accel: float
+    turn_accel: float
+    step: float = 0.1
+    goal_tolerance: float = 0.0
+    timeout: float = 8.0
+    stuck: float = 10.0
+    beams: int = 360
+    fov: float = 6.283185307179586
+    lidar_range: float = 0.0
+    driven: float = 0.1
+    controllers: tuple[ControllerSpec, ...] = ()
+
+    def controller(self, name: str) -> ControllerSpec:
+        """The spec's settings of controller ``name`` (none set: its defaults)."""
+        for controller in self.controllers:
+            if controller.name == name:
+                return controller
+        return ControllerSpec(name)
+
+
+def robot_for(arena: Arena, **changes: Any) -> Robot:
+    """The default robot of ``arena``: BARN's Jackal limits (0.5 m/s, 1.57 rad/s, accelerations
+    10 m/s² and 20 rad/s²), goal tolerance 0.3 m and a 3.5 m lidar, in the arena's unit."""
+    units = 1.0 / metres_per_unit(arena)
+    robot = Robot(
+        max_speed=0.5 * units,
+        min_speed=0.0,
+        max_turn=1.57,
+        accel=10.0 * units,
+        turn_accel=20.0,
+        goal_tolerance=0.3 * units,
+        lidar_range=3.5 * units,
+    )
+    return dataclasses.replace(robot, **changes)
 
 
 SEED_MAX = 2**63 - 1
@@ -281,6 +370,7 @@ class Spec:
     scenario: Scenario
     fitness: tuple[FitnessTerm, ...]
     evolution: Evolution = field(default_factory=Evolution)
+    robot: Robot | None = None
 
     def element(self, name: str) -> ElementType:
         """Return the element type called ``name``."""
@@ -372,7 +462,29 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
             tuple(placement["sizes"]), float(placement["scale"]), tuple(placement["positions"])
         ),
     )
-    fitness = tuple(FitnessTerm(**{**t, "target": _optional_pair(t.get("target"))}) for t in data["fitness"])
-    return Spec(
-        data["name"], data["source"], elements, arena, scenario, fitness, Evolution(**data["evolution"])
+    fitness = tuple(
+        FitnessTerm(
+            **{**t, "target": _optional_pair(t.get("target")), "controllers": tuple(t.get("controllers", ()))}
+        )
+        for t in data["fitness"]
     )
+    return Spec(
+        data["name"],
+        data["source"],
+        elements,
+        arena,
+        scenario,
+        fitness,
+        Evolution(**data["evolution"]),
+        _robot_from_dict(data.get("robot")),
+    )
+
+
+def _robot_from_dict(data: dict[str, Any] | None) -> Robot | None:
+    if data is None:
+        return None
+    controllers = tuple(
+        ControllerSpec(c["name"], tuple((str(k), float(v)) for k, v in c["params"]))
+        for c in data["controllers"]
+    )
+    return Robot(**{**data, "controllers": controllers})

@@ -1,0 +1,27 @@
+"""Driving robots through floors: a batched, exact, deterministic simulator and its controllers.
+
+One robot per floor, all stepping in lockstep inside numba kernels: unicycle kinematics with
+speed, turn-rate and acceleration limits; collisions decided on the elements' exact convex parts
+along each step's motion; a 2D lidar cast against the same geometry. See docs/simulation.md.
+"""
+
+from typing import TYPE_CHECKING
+
+from mazegen.lazy import lazy_names
+
+if TYPE_CHECKING:
+    from mazegen.runtime.simulation._episodes import (
+        ARRIVED,
+        COLLISION,
+        OUTCOMES,
+        TIMEOUT,
+        Episodes,
+        barn_score,
+    )
+
+__all__ = ["ARRIVED", "COLLISION", "OUTCOMES", "TIMEOUT", "Episodes", "barn_score"]
+
+__getattr__ = lazy_names(
+    __name__,
+    {"_episodes": ["ARRIVED", "COLLISION", "OUTCOMES", "TIMEOUT", "Episodes", "barn_score"]},
+)
