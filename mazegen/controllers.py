@@ -71,6 +71,13 @@ BUNDLED: dict[str, BundledController] = {
             Parameter("path_weight", 0.75, NUMBER, "weight of the distance to the path (pdist_scale)"),
             Parameter("goal_weight", 1.0, NUMBER, "weight of the distance to the goal (gdist_scale)"),
             Parameter("inflation", 0.30, LENGTH, "obstacle cost is 0 this far from the robot's edge"),
+            Parameter(
+                "decay", 0.1, LENGTH, "obstacle cost falls by e over this gap (1 / cost_scaling_factor)", 1e-9
+            ),
+            Parameter(
+                "resolution", 0.05, LENGTH, "costmap cell the path and goal distances are counted in", 1e-9
+            ),
+            Parameter("forward", 0.325, LENGTH, "turns on the spot face the goal this far ahead", 0.0),
         ),
     ),
     "purepursuit": BundledController(
