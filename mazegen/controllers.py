@@ -105,6 +105,10 @@ BUNDLED: dict[str, BundledController] = {
             Parameter("threshold", 0.5, NUMBER, "density above which a sector is blocked", 0.0, 1e6),
             Parameter("safety", 0.2, LENGTH, "distance kept from obstacles beyond the robot's radius", 0.0),
             Parameter("window", 1.5, LENGTH, "readings farther than this do not block", 0.0),
+            Parameter("wide", 1.571, ANGLE, "openings wider than this are entered half of it in", 0.0, 6.3),
+            Parameter(
+                "heading_gain", 2.0, NUMBER, "turn rate per radian between heading and steer", 0.0, 100
+            ),
         ),
     ),
 }

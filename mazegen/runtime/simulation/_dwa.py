@@ -33,10 +33,18 @@ import math
 
 from numba import njit
 
+from mazegen.runtime.simulation._controllers import (
+    ACCEL,
+    MAX_SPEED,
+    MAX_TURN,
+    MIN_SPEED,
+    RADIUS,
+    STEP,
+    TURN_ACCEL,
+)
+
 # Parameters, in the order of mazegen/controllers.py's "dwa" entry.
 V_SAMPLES, W_SAMPLES, HORIZON, OBSTACLE, PATH, GOAL, INFLATION, DECAY, RESOLUTION, FORWARD = range(10)
-# Limits, in the order of the loop's ``limits``.
-MAX_SPEED, MIN_SPEED, MAX_TURN, ACCEL, TURN_ACCEL, STEP, RADIUS = range(7)
 LETHAL = 252.0
 """costmap_2d's cost just outside the inscribed radius, where the inflation decay starts."""
 
