@@ -6,32 +6,20 @@ from __future__ import annotations
 import itertools
 import math
 
+import numba
 import numpy as np
 import pytest
 
-from mazegen.controllers import BUNDLED
 from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.paths import path_of
+from mazegen.runtime.simulation import drive
 from mazegen.runtime.simulation._dwa import LETHAL, dwa_command
+from mazegen.runtime.simulation._episodes import ARRIVED
 from mazegen.runtime.simulation._fields import floor_fields
-from mazegen.spec import metres_per_unit, robot_for
 from tests.runtime.floors import ARENA, ZIGZAG, population, random_floors
+from tests.runtime.simulation.kernel_args import LIMITS, ROBOT, params_of
 
-ROBOT = robot_for(ARENA)
-UNITS = 1.0 / metres_per_unit(ARENA)
-PARAMS = np.array([p.default * (UNITS if p.scaled else 1.0) for p in BUNDLED["dwa"].parameters])
-LIMITS = np.array(
-    [
-        ROBOT.max_speed,
-        ROBOT.min_speed,
-        ROBOT.max_turn,
-        ROBOT.accel,
-        ROBOT.turn_accel,
-        ROBOT.step,
-        ARENA.robot_radius,
-        ROBOT.goal_tolerance,
-    ]
-)
+PARAMS = params_of("dwa")
 GOAL = np.array(ARENA.goal, np.float64)
 NONE = np.zeros(0)
 
@@ -189,3 +177,45 @@ def test_dwa_heads_for_the_goal_in_the_open(heading):
     assert w * error > 0  # turns toward the goal
     if abs(error) < 0.3:
         assert v == pytest.approx(ROBOT.max_speed)
+
+
+U_TRAP = [("vwall", 600, 300, 20, 260, 0), ("vwall", 500, 420, 220, 20, 0), ("vwall", 500, 180, 220, 20, 0)]
+"""A cup open toward the start, its back across the straight line to the goal."""
+WALL = [("vwall", 500, 300, 20, 600, 0)]
+"""A wall from the arena's bottom to its top: no way through."""
+
+
+def test_dwa_escapes_a_u_trap_that_catches_straight():
+    pop = population(ARENA, [U_TRAP])
+    assert drive(pop, robot=ROBOT, controller="straight").outcome[0] != ARRIVED
+    episodes = drive(pop, robot=ROBOT, controller="dwa", record=True)
+    assert episodes.outcome[0] == ARRIVED
+    assert episodes.clearance[0] > 0
+    # It went round the cup, not through it: somewhere beyond its arms.
+    track = episodes.trajectory[0, : episodes.steps[0] + 1]
+    assert ((track[:, 1] > 430) | (track[:, 1] < 170)).any()
+
+
+def test_dwa_arrives_in_the_open_and_fails_behind_a_wall():
+    episodes = drive(population(ARENA, [[], WALL]), robot=ROBOT, controller="dwa")
+    assert episodes.outcome[0] == ARRIVED
+    # Little slower than the optimal time: accelerating, and turning toward the goal at first.
+    assert episodes.time[0] <= episodes.optimal_time[0] + 2.0
+    assert episodes.failed[1]
+
+
+def test_dwa_drives_alike_on_one_thread_and_on_two():
+    rng = np.random.default_rng(8)
+    pop = population(ARENA, [*random_floors(rng, 12, ARENA), U_TRAP, ZIGZAG])
+    before = numba.get_num_threads()
+    try:
+        runs = []
+        for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
+            numba.set_num_threads(threads)
+            runs.append(drive(pop, robot=ROBOT, controller="dwa", record=True))
+    finally:
+        numba.set_num_threads(before)
+    one, two = runs
+    assert (one.outcome == ARRIVED).sum() >= 3
+    assert one.outcome.tobytes() == two.outcome.tobytes()
+    assert one.trajectory.tobytes() == two.trajectory.tobytes()
