@@ -54,15 +54,15 @@ def floor_paths(population: Population, indices: np.ndarray, *, margin: float | 
     shapes, ids, n_el, params, valid = kernel_args(population)
     arena = population.arena
     plain = grid_args(grid_of(arena))
-    wide = plain if margin is None else grid_args(grid_of(_wider(arena, margin)))
-    half = plain if margin is None else grid_args(grid_of(_wider(arena, margin / 2)))
+    wide = plain if not margin else grid_args(grid_of(_wider(arena, margin)))
+    half = plain if not margin else grid_args(grid_of(_wider(arena, margin / 2)))
     capacity = 0 if margin is None else CORNERS
     while True:
         length = np.full(len(rows), np.nan)
         count = np.zeros(len(rows), np.int64)
         points = np.zeros((len(rows), max(capacity, 1), 2))
         blocks = max(1, min(len(rows), 8 * numba.get_num_threads()))
-        arrays = (shapes, ids, n_el, params, valid, rows, plain, half, wide)
+        arrays = (shapes, ids, n_el, params, valid, rows, plain, half, wide, bool(margin))
         _paths(*arrays, capacity, blocks, length, count, points)
         if count.max(initial=0) <= capacity or margin is None:
             return FloorPaths(length, points, count if margin is not None else np.zeros_like(count))
@@ -79,11 +79,11 @@ def _wider(arena: Arena, margin: float) -> Arena:
 
 @njit(cache=True, parallel=True)
 def _paths(
-    shapes, ids, n_el, params, valid, rows, plain, half, wide, capacity, blocks, length, count, points
+    shapes, ids, n_el, params, valid, rows, plain, half, wide, widen, capacity, blocks, length, count, points
 ):  # pragma: no cover
     """Lengths of the paths of ``rows`` on the ``plain`` grid; when ``capacity`` is positive, the
-    corners of the path on the widest grid (``wide``, ``half``, ``plain``) that has one too, or how
-    many there would be when more than ``capacity``."""
+    corners of the path on the widest grid (``wide``, ``half`` when ``widen``, ``plain``) that has one
+    too, or how many there would be when more than ``capacity``."""
     m = rows.shape[0]
     for block in prange(blocks):
         scratch = route_scratch(shapes, ids.shape[1], plain)
@@ -100,10 +100,12 @@ def _paths(
             if capacity == 0:
                 continue
             corners = scratch[5]
-            _, found, _, wide_turns = route(shapes, ids[i], n_el[i], params[i], wide, wide_scratch)
+            found, wide_turns = False, 0
+            if widen:
+                _, found, _, wide_turns = route(shapes, ids[i], n_el[i], params[i], wide, wide_scratch)
             if found:
                 corners, turns = wide_scratch[5], wide_turns
-            else:
+            elif widen:
                 _, found, _, half_turns = route(shapes, ids[i], n_el[i], params[i], half, half_scratch)
                 if found:
                     corners, turns = half_scratch[5], half_turns
