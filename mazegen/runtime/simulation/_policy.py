@@ -12,17 +12,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numba import njit, prange
 
 from mazegen.errors import MazeError
 from mazegen.runtime.simulation._lidar import scan
-from mazegen.runtime.simulation._step import ACTIVE, THETA, V, W, X, Y, advance
-
-if TYPE_CHECKING:
-    from mazegen.runtime.simulation._drive import _Run
+from mazegen.runtime.simulation._step import ACTIVE, THETA, Setup, V, W, X, Y, advance
 
 
 @dataclass(frozen=True)
@@ -53,7 +50,7 @@ class Observations:
 def run_policy(
     name: str,
     policy: Callable[[Observations], Any],
-    run: _Run,
+    run: Setup,
     rows: np.ndarray,
     state: np.ndarray,
     outcome: np.ndarray,
@@ -77,7 +74,7 @@ def run_policy(
 
 
 def _observe(
-    run: _Run, rows: np.ndarray, active: np.ndarray, state: np.ndarray, step: int, most: int
+    run: Setup, rows: np.ndarray, active: np.ndarray, state: np.ndarray, step: int, most: int
 ) -> Observations:
     n = active.size
     ranges = np.empty((n, run.angles.size))

@@ -24,6 +24,7 @@ whenever the lower bound cannot rule out a new minimum.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -40,6 +41,8 @@ from mazegen.runtime.simulation._controllers import (
     TURN_ACCEL,
 )
 from mazegen.runtime.simulation._episodes import ARRIVED, COLLISION, TIMEOUT
+from mazegen.runtime.simulation._paths import FloorPaths
+from mazegen.runtime.simulation._world import World
 
 ACTIVE = -1
 """The outcome of an episode still running."""
@@ -66,6 +69,27 @@ def new_state(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, n
         np.zeros(m, np.int32),
         np.zeros(m, np.bool_),
     )
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What every episode of one drive reads: the robot's limits (in the order of
+    :data:`mazegen.runtime.simulation._controllers.LIMITS`), the goal, the floors' parts and paths,
+    the lidar's beam angles and range, the step limits."""
+
+    limits: np.ndarray
+    goal: np.ndarray
+    world: World
+    paths: FloorPaths
+    angles: np.ndarray
+    reach: float
+    max_steps: np.ndarray
+    stuck_steps: int
+
+    @property
+    def episode(self) -> tuple:
+        """``(limits, goal, max_steps, stuck_steps)``: what the step kernel reads besides the parts."""
+        return self.limits, self.goal, self.max_steps, self.stuck_steps
 
 
 @njit(cache=True)
