@@ -26,7 +26,7 @@ ENTRY_POINTS = "mazegen.controllers"
 """The entry point group under which packages register controllers."""
 
 PATHS = frozenset({"purepursuit", "dwa"})
-"""Bundled controllers that read MazeGen's path."""
+"""Bundled controllers that follow MazeGen's path; their last parameter is the path's margin."""
 FIELDS = frozenset({"dwa"})
 """Bundled controllers that read the navigation and clearance fields (:mod:`._fields`)."""
 

@@ -47,7 +47,7 @@ def reference(params, pose, nav, clear, grid, path):
     max_speed, min_speed, max_turn, accel, turn_accel, dt, radius, _ = LIMITS
     v_lo, v_hi = max(min_speed, v_now - accel * dt), min(max_speed, v_now + accel * dt)
     w_lo, w_hi = max(-max_turn, w_now - turn_accel * dt), min(max_turn, w_now + turn_accel * dt)
-    nv, nw, horizon, occ, pdist, gdist, inflation, decay, resolution, forward = params
+    nv, nw, horizon, occ, pdist, gdist, inflation, decay, resolution, forward, _ = params
     speeds = np.linspace(v_lo, v_hi, int(nv))
     turns = (
         [0.0, *np.linspace(w_lo, w_hi, int(nw) - 1)]
