@@ -78,6 +78,9 @@ BUNDLED: dict[str, BundledController] = {
                 "resolution", 0.05, LENGTH, "costmap cell the path and goal distances are counted in", 1e-9
             ),
             Parameter("forward", 0.325, LENGTH, "turns on the spot face the goal this far ahead", 0.0),
+            Parameter(
+                "path_margin", 0.3, LENGTH, "the path keeps this far beyond the radius where it can", 0.0
+            ),
         ),
     ),
     "purepursuit": BundledController(

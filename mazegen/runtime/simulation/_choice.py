@@ -29,7 +29,7 @@ PATHS = frozenset({"purepursuit", "dwa"})
 """Bundled controllers that read MazeGen's path."""
 FIELDS = frozenset({"dwa"})
 """Bundled controllers that read the navigation and clearance fields (:mod:`._fields`)."""
-MARGINS = {"purepursuit": "path_margin"}
+MARGINS = {"purepursuit": "path_margin", "dwa": "path_margin"}
 """Bundled controllers that follow the path of a wider robot where there is one: the parameter
 saying how much wider (:func:`mazegen.runtime.simulation._paths.floor_paths`)."""
 
