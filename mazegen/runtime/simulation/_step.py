@@ -24,6 +24,7 @@ whenever the lower bound cannot rule out a new minimum.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -40,6 +41,8 @@ from mazegen.runtime.simulation._controllers import (
     TURN_ACCEL,
 )
 from mazegen.runtime.simulation._episodes import ARRIVED, COLLISION, TIMEOUT
+from mazegen.runtime.simulation._paths import FloorPaths
+from mazegen.runtime.simulation._world import World
 
 ACTIVE = -1
 """The outcome of an episode still running."""
@@ -68,6 +71,27 @@ def new_state(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, n
     )
 
 
+@dataclass(frozen=True)
+class Setup:
+    """What every episode of one drive reads: the robot's limits (in the order of
+    :data:`mazegen.runtime.simulation._controllers.LIMITS`), the goal, the floors' parts and paths,
+    the lidar's beam angles and range, the step limits."""
+
+    limits: np.ndarray
+    goal: np.ndarray
+    world: World
+    paths: FloorPaths
+    angles: np.ndarray
+    reach: float
+    max_steps: np.ndarray
+    stuck_steps: int
+
+    @property
+    def episode(self) -> tuple:
+        """``(limits, goal, max_steps, stuck_steps)``: what the step kernel reads besides the parts."""
+        return self.limits, self.goal, self.max_steps, self.stuck_steps
+
+
 @njit(cache=True)
 def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no cover - compiled
     """Put robot ``m`` at its start, at rest; a start touching an obstacle is a collision and a
@@ -91,22 +115,16 @@ def _window(command, current, change, low, high):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def advance(
-    m,
-    command_v,
-    command_w,
-    limits,
-    goal,
-    world,
-    max_steps,
-    stuck_steps,
-    state,
-    outcome,
-    steps,
-    progress,
-    stuck,
-):  # pragma: no cover
-    """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring."""
+def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cover - compiled
+    """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring.
+
+    ``world`` is the floors' parts (:class:`mazegen.runtime.simulation._world.World`'s arrays);
+    ``episode`` is ``(limits, goal, max_steps, stuck_steps)``: what every robot of a drive reads;
+    ``robots`` is ``(state, outcome, steps, progress, stuck)``: what they write. (The parts are not
+    in ``episode``: numba's parallel loops take no tuple nested in a tuple.)
+    """
+    limits, goal, max_steps, stuck_steps = episode
+    state, outcome, steps, progress, stuck = robots
     dt = limits[STEP]
     r = limits[RADIUS]
     v = _window(command_v, state[m, V], limits[ACCEL] * dt, limits[MIN_SPEED], limits[MAX_SPEED])
