@@ -146,7 +146,7 @@ class Scenario:
     placement: GrammarPlacement | None = None
 
 
-REWARDS = frozenset({"count", "difficulty", "metric", "diversity", "coverage"})
+REWARDS = frozenset({"count", "difficulty", "metric", "diversity", "coverage", "drive"})
 """Term kinds added to the fitness; the others are penalties, subtracted."""
 
 PATH_METRICS = (
