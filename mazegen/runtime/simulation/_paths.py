@@ -1,0 +1,104 @@
+"""MazeGen's own paths of the driven floors: their lengths (BARN's optimal time) and corners.
+
+The search is :func:`mazegen.runtime.navigation.paths.route`, the one the solvability and
+difficulty metrics run, so a floor's optimal time is the path length the metrics report (read
+from the population's navigation when the metrics have already searched it). It runs in parallel
+over the driven floors, each block of floors with its own scratch.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numba
+import numpy as np
+from numba import njit, prange
+
+from mazegen.runtime.engine.population import Population
+from mazegen.runtime.geometry.cspace import grid_args, grid_of
+from mazegen.runtime.navigation.paths import kernel_args, route, route_scratch
+from mazegen.spec import Arena
+
+
+@dataclass(frozen=True)
+class FloorPaths:
+    """The paths of M driven floors.
+
+    Attributes:
+        length: ``float64[M]`` path length in arena units, NaN where MazeGen finds no path.
+        corners: ``float64[M, C, 2]`` the corners of the path to follow, start to goal, padded; ``C``
+            is 1 when the corners were not asked for.
+        count: ``int64[M]`` corners of each path to follow (0 without a path).
+    """
+
+    length: np.ndarray
+    corners: np.ndarray
+    count: np.ndarray
+
+
+def floor_paths(population: Population, indices: np.ndarray, *, margin: float | None) -> FloorPaths:
+    """Paths of individuals ``indices`` of ``population``; their corners too unless ``margin`` is None.
+
+    The lengths are MazeGen's (the robot's radius); the corners are those of the path for a robot
+    ``margin`` wider, where there is one, so that a controller cutting corners keeps clear, as a
+    planner's inflation keeps it clear (MazeGen's path touches the configuration space's edge).
+    """
+    rows = np.ascontiguousarray(indices, np.int64)
+    searched = population.measured.get("navigation")
+    if margin is None and searched is not None:  # the metrics' search: its lengths are these
+        nothing = np.zeros(len(rows), np.int64)
+        return FloorPaths(
+            np.asarray(searched.path_length, np.float64)[rows], np.zeros((len(rows), 1, 2)), nothing
+        )
+    shapes, ids, n_el, params, valid = kernel_args(population)
+    arena = population.arena
+    plain = grid_args(grid_of(arena))
+    wide = plain if margin is None else grid_args(grid_of(_wider(arena, margin)))
+    capacity = 0 if margin is None else CORNERS
+    while True:
+        length = np.full(len(rows), np.nan)
+        count = np.zeros(len(rows), np.int64)
+        points = np.zeros((len(rows), max(capacity, 1), 2))
+        blocks = max(1, min(len(rows), 8 * numba.get_num_threads()))
+        _paths(shapes, ids, n_el, params, valid, rows, plain, wide, capacity, blocks, length, count, points)
+        if count.max(initial=0) <= capacity or margin is None:
+            return FloorPaths(length, points, count if margin is not None else np.zeros_like(count))
+        capacity = int(count.max())  # a rare path with more corners than CORNERS: once more, wider
+
+
+CORNERS = 64
+"""Corners kept per path at first; a drive with a longer path searches again with room for it."""
+
+
+def _wider(arena: Arena, margin: float) -> Arena:
+    return replace(arena, robot_radius=arena.robot_radius + margin, grid=arena.cell)
+
+
+@njit(cache=True, parallel=True)
+def _paths(
+    shapes, ids, n_el, params, valid, rows, plain, wide, capacity, blocks, length, count, points
+):  # pragma: no cover
+    """Lengths of the paths of ``rows`` on the ``plain`` grid; when ``capacity`` is positive, the
+    corners of the path on the ``wide`` grid (else the plain one) too, or how many there would be
+    when more than ``capacity``."""
+    m = rows.shape[0]
+    for block in prange(blocks):
+        scratch = route_scratch(shapes, ids.shape[1], plain)
+        wide_scratch = route_scratch(shapes, ids.shape[1], wide)
+        for j in range(block * m // blocks, (block + 1) * m // blocks):
+            i = rows[j]
+            if not valid[i]:
+                continue
+            _, found, total, turns = route(shapes, ids[i], n_el[i], params[i], plain, scratch)
+            if not found:
+                continue
+            length[j] = total
+            if capacity == 0:
+                continue
+            corners = scratch[5]
+            _, wide_found, _, wide_turns = route(shapes, ids[i], n_el[i], params[i], wide, wide_scratch)
+            if wide_found:
+                corners, turns = wide_scratch[5], wide_turns
+            count[j] = turns
+            if turns <= capacity:
+                points[j, :turns] = corners[:turns]
