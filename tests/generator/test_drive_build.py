@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 
 from mazegen.dsl.loader import load_spec
 from mazegen.generator.build import build, render_artifacts
+from tests.conftest import ROOT
 from tests.drive_fakes import DRIVE_SPEC
 
 DRIVING = (
@@ -69,3 +71,12 @@ def test_generated_drive_code_compiles_and_passes_ruff(write_spec, tmp_path):
         text=True,
     )
     assert lint.returncode == 0, lint.stdout + lint.stderr
+
+
+def test_the_docs_show_the_code_generated_for_their_driving_spec(tmp_path):
+    page = (ROOT / "docs" / "language.md").read_text(encoding="utf-8")
+    spec = re.search(r"```maze file=driven.maze\n(.*?)```", page, re.S)
+    shown = re.search(r"the generated `fitness.py` reads:\n\n```python fragment\n(.*?)```", page, re.S)
+    assert spec is not None and shown is not None
+    (tmp_path / "driven.maze").write_text(spec.group(1), encoding="utf-8")
+    assert shown.group(1) in render_artifacts(load_spec(tmp_path / "driven.maze"))["fitness.py"]

@@ -162,3 +162,22 @@ def test_a_spec_without_drive_terms_loads_none_of_the_simulator(tmp_path):
     )
     loaded = set(filter(None, done.stdout.splitlines()[-1].removeprefix("loaded:").split(",")))
     assert loaded <= {"mazegen.runtime.simulation._episodes"}, loaded  # what a drive returns: no kernels
+
+
+def test_a_run_scores_drive_terms_with_the_simulator(tmp_path):
+    """End to end with the real simulator: the generated terms give what driving the floors gives."""
+    text = DRIVE_SPEC + (
+        "robot { drive all }\n"
+        "fitness { solvable required  controller straight fails  controller purepursuit time 1..3 }\n"
+    )
+    problem = build_problem(text, tmp_path)
+    pop = decoded(problem, 24, seed=11)
+    scores = problem.fitness_module.terms(pop)
+    driven = np.flatnonzero(pop.valid & ~problem.fitness_module.rejected(pop))
+    assert driven.size >= 5
+    episodes = simulation.drive(pop, robot=problem.spec.robot, controller="straight", indices=driven)
+    assert np.array_equal(scores["straight_fails"][driven], episodes.failed.astype(float))
+    pursuit = simulation.drive(pop, robot=problem.spec.robot, controller="purepursuit", indices=driven)
+    ratio = np.where(pursuit.failed, problem.spec.robot.timeout, pursuit.time / pursuit.optimal_time)
+    assert np.allclose(scores["purepursuit_time"][driven], metrics.closeness(ratio, 1.0, 3.0))
+    assert not scores["straight_fails"][np.setdiff1d(np.arange(pop.size), driven)].any()
