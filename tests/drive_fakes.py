@@ -31,7 +31,7 @@ class FakeDrive:
 
     def __call__(self, population, *, robot, controller, indices=None, **options) -> Episodes:
         name = controller.name
-        rows = np.asarray(indices, dtype=np.int64)
+        rows = np.flatnonzero(population.valid) if indices is None else np.asarray(indices, dtype=np.int64)
         self.calls.append((name, rows.copy()))
         outcome = np.array([outcome_of(int(i)) for i in rows], dtype=np.int8)
         if name == "straight":

@@ -3,6 +3,7 @@ population, no drive of a cached genome, and no simulator loaded by a spec that 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import subprocess
 import sys
@@ -14,7 +15,7 @@ from mazegen.runtime import metrics, simulation
 from mazegen.runtime.engine import operators as ops
 from mazegen.runtime.engine.evolution import evolve
 from mazegen.runtime.simulation import ARRIVED
-from mazegen.spec import Evolution
+from mazegen.spec import Evolution, FitnessTerm
 from tests.conftest import EXAMPLES
 from tests.drive_fakes import DRIVE_SPEC, FakeDrive, build_problem, outcome_of
 
@@ -181,3 +182,47 @@ def test_a_run_scores_drive_terms_with_the_simulator(tmp_path):
     ratio = np.where(pursuit.failed, problem.spec.robot.timeout, pursuit.time / pursuit.optimal_time)
     assert np.allclose(scores["purepursuit_time"][driven], metrics.closeness(ratio, 1.0, 3.0))
     assert not scores["straight_fails"][np.setdiff1d(np.arange(pop.size), driven)].any()
+
+
+def test_a_run_of_a_driving_spec_waits_for_the_simulators_kernels(driving, tmp_path):
+    from mazegen.runtime import DRIVE_KERNELS, EVERY_RUN_KERNELS, run_kernels
+
+    assert run_kernels(driving.spec) == EVERY_RUN_KERNELS + DRIVE_KERNELS["bundled"]
+    plain = build_problem(DRIVE_SPEC + "robot { drive all }\nfitness { count }\n", tmp_path)
+    assert run_kernels(plain.spec) == EVERY_RUN_KERNELS
+    policy = dataclasses.replace(
+        driving.spec, fitness=(FitnessTerm("drive", metric="fails", controllers=("my.pkg:policy",)),)
+    )
+    assert run_kernels(policy) == EVERY_RUN_KERNELS + DRIVE_KERNELS["policy"]
+
+
+def test_the_first_run_says_it_compiles_when_only_the_simulator_is_missing(driving, monkeypatch, capsys):
+    import mazegen.runtime
+    from mazegen.cli.launching import compile_first
+    from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE, QuietReporter
+
+    asked: list[tuple[str, ...]] = []
+
+    def cached(kernels=()):
+        asked.append(kernels)
+        return not any(kernel.startswith("_loop.") for kernel in kernels)
+
+    compiled = []
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", cached)
+    monkeypatch.setattr(
+        "mazegen.runtime.runs.warmup.compile_kernels", lambda problem: compiled.append(problem.spec.name)
+    )
+    compile_first(driving, "serial", QuietReporter())
+    assert "_loop.run_all" in asked[-1]
+    assert compiled == [driving.spec.name]
+    assert FIRST_COMPILE_NOTE in capsys.readouterr().err
+
+
+def test_the_warm_up_drives_each_controller_once(driving, fake_drive):
+    from mazegen.runtime.runs.warmup import compile_path_kernels
+
+    compile_path_kernels(driving.spec)
+    assert [name for name, _ in fake_drive.calls] == ["dwa", "straight"]
+    fake_drive.calls.clear()
+    compile_path_kernels(dataclasses.replace(driving.spec, fitness=(FitnessTerm("count"),)))
+    assert fake_drive.calls == []
