@@ -14,7 +14,8 @@ count, the step of its last progress toward the goal and whether it ended stuck.
 4. The episode ends: **arrived** when the segment comes within ``goal_tolerance`` of the goal
    (before any contact); **collision** at the first contact, the robot left at the start of the
    step's segment and the contact centre kept; **timeout** after ``max_steps`` steps or, stuck,
-   after ``stuck_steps`` steps without a new best distance to the goal.
+   after ``stuck_steps`` steps without a new best distance to the goal (better by at least
+   :data:`PROGRESS` of a step at top speed).
 
 The clearance (closest approach of the robot's edge) is taken at every pose, computed exactly
 whenever the lower bound cannot rule out a new minimum.
@@ -48,6 +49,10 @@ X, Y, THETA, V, W, DISTANCE, CLEARANCE, SAFE, BEST, CX, CY = range(11)
 of the distance to obstacles, best distance to the goal so far, contact centre."""
 COLUMNS = 11
 LOOKOUT = 8
+"""Steps at top speed beyond the closest approach so far that distances are searched to."""
+PROGRESS = 0.01
+"""Progress is a new best distance to the goal by at least this fraction of a step at top speed:
+creeping ever closer by less does not hold off the stuck timeout."""
 """Steps at top speed beyond the closest approach so far that distances are searched to."""
 
 
@@ -136,7 +141,7 @@ def advance(
         outcome[m] = ARRIVED
         return
     to_goal = math.hypot(goal[0] - x1, goal[1] - y1)
-    if to_goal < state[m, BEST]:
+    if to_goal < state[m, BEST] - PROGRESS * limits[MAX_SPEED] * dt:
         state[m, BEST] = to_goal
         progress[m] = steps[m]
     if steps[m] >= max_steps[m]:
