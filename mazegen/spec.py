@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -145,7 +146,7 @@ class Scenario:
     placement: GrammarPlacement | None = None
 
 
-REWARDS = frozenset({"count", "difficulty", "metric", "diversity", "coverage"})
+REWARDS = frozenset({"count", "difficulty", "metric", "diversity", "coverage", "drive"})
 """Term kinds added to the fitness; the others are penalties, subtracted."""
 
 PATH_METRICS = (
@@ -189,7 +190,10 @@ class FitnessTerm:
 
     @property
     def key(self) -> str:
-        """The term's name in fitness breakdowns: its kind, or its metric's name."""
+        """The term's name in fitness breakdowns: its kind, its metric's name, or for a drive term its
+        controllers' and measure's (``dwa_fails``, ``dwa_purepursuit_disagree``)."""
+        if self.kind == "drive":
+            return "_".join(re.sub(r"\W", "_", name) for name in (*self.controllers, self.metric or ""))
         return self.metric if self.kind == "metric" and self.metric else self.kind
 
 
@@ -388,6 +392,12 @@ class Spec:
     def reads_difficulty(self) -> bool:
         """Whether a fitness term reads the difficulty metrics (not just solvability)."""
         return any(term.kind in ("difficulty", "metric") for term in self.fitness)
+
+    @property
+    def drive_controllers(self) -> tuple[str, ...]:
+        """The controllers the drive terms name, each once, in order (none: the spec drives no robot)."""
+        named = (name for term in self.fitness if term.kind == "drive" for name in term.controllers)
+        return tuple(dict.fromkeys(named))
 
     def with_evolution(self, **changes: Any) -> Spec:
         """Return a copy with some evolution settings replaced."""
