@@ -189,3 +189,25 @@ def test_a_lone_scenario_without_its_spec_says_to_give_one(tmp_path, monkeypatch
     assert result.exit_code == 1 and result.stderr.startswith(f"{floor}: ") and "--spec" in result.stderr
     assert len(result.stderr.splitlines()) == 1
     assert invoke(str(floor), "-c", "dwa", "--spec", str(EXAMPLES / "factory.maze")).exit_code == 0
+
+
+def test_the_simulator_drives_the_floors_end_to_end(suite, tmp_path):
+    """No fake: ``straight`` crosses an open floor and hits a production line across its way."""
+    across = {"type": "productionLine", "x": 700, "y": 525, "width": 300, "depth": 80, "rotation": 36}
+    hand_floor(suite / "scenario-03.json", [across])  # on the straight line from start to goal
+    out = tmp_path / "driven"
+    result = invoke(str(suite), "-c", "straight", "--json", "-o", str(out))
+    assert result.exit_code == 0, result.output
+    records = {Path(r["file"]).name: r for r in map(json.loads, result.stdout.splitlines())}
+    assert [records[f"scenario-0{n}.json"]["outcome"] for n in (1, 2, 3)] == [
+        "arrived",
+        "no path",
+        "collision",
+    ]
+    arrived, crashed = records["scenario-01.json"], records["scenario-03.json"]
+    assert arrived["score"] == 0.5 and arrived["collision"] is None and arrived["clearance"] > 0
+    assert crashed["score"] == 0 and crashed["clearance"] == 0 and crashed["distance"] < arrived["distance"]
+    document = read_document(out / "scenario-03.json")
+    assert list(SCHEMA.iter_errors(document)) == []
+    trajectory = document["drive"]["straight"]["trajectory"]
+    assert trajectory[0][:2] == [60.0, 60.0] and math.dist(trajectory[-1][:2], crashed["collision"]) < 50

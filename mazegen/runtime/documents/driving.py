@@ -20,11 +20,8 @@ from mazegen.runtime.documents.scenario import DIGITS, population_from_documents
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.geometry.elements import ElementTable
 from mazegen.runtime.navigation.measures import navigation_of
-from mazegen.runtime.simulation import OUTCOMES, Episodes
+from mazegen.runtime.simulation import ARRIVED, NO_PATH, OUTCOMES, Episodes
 from mazegen.spec import Robot, Spec, robot_for
-
-NO_PATH = "no path"
-"""The outcome of a floor not driven: the robot cannot get from its start to its goal."""
 
 
 def _round(value: float) -> float:
@@ -67,11 +64,11 @@ class Drive:
 
     @property
     def arrived(self) -> bool:
-        return self.outcome == OUTCOMES[0]
+        return self.outcome == OUTCOMES[ARRIVED]
 
     @property
     def driven(self) -> bool:
-        return self.outcome != NO_PATH
+        return self.outcome != OUTCOMES[NO_PATH]
 
     def section(self) -> dict[str, Any]:
         """The controller's entry of a document's ``drive`` section."""
@@ -96,7 +93,7 @@ class Drive:
 
 def not_driven(file: str, controller: str) -> Drive:
     """The :class:`Drive` of a floor without a path."""
-    return Drive(file, controller, NO_PATH, 0.0, 0.0, None, None, 0.0, False, None, ())
+    return Drive(file, controller, OUTCOMES[NO_PATH], 0.0, 0.0, None, None, 0.0, False, None, ())
 
 
 def episode_drive(file: str, episodes: Episodes, index: int, scores: np.ndarray) -> Drive:

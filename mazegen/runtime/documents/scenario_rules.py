@@ -41,7 +41,7 @@ MAX_POSES = 1_000_000
 MAX_SECONDS = 1e9
 """Longest time of a drive, in seconds."""
 DRIVE_OUTCOMES = ("arrived", "collision", "timeout", "no path")
-"""How a drive ended: the simulator's outcomes, and a floor not driven for want of a path."""
+"""How a drive ended: the simulator's outcomes (a floor without a path is not driven: ``no path``)."""
 MIN_LENGTH = 1e-4
 """Smallest size, in arena units: documents round to 4 decimals, so a smaller one is written as 0."""
 MAX_LENGTH = 1e9
