@@ -211,3 +211,45 @@ def test_the_simulator_drives_the_floors_end_to_end(suite, tmp_path):
     assert list(SCHEMA.iter_errors(document)) == []
     trajectory = document["drive"]["straight"]["trajectory"]
     assert trajectory[0][:2] == [60.0, 60.0] and math.dist(trajectory[-1][:2], crashed["collision"]) < 50
+
+
+def test_score_prints_the_drive_of_each_controller_asked_for(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    spec, floor = str(EXAMPLES / "factory.maze"), str(suite / "scenario-01.json")
+    result = CliRunner().invoke(main, ["score", spec, floor, "-c", "straight,dwa"], catch_exceptions=False)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[-2].startswith("drive straight\tcollision, ") and lines[-2].endswith("score 0")
+    assert lines[-1].startswith("drive dwa\tarrived, ") and "closest 12.3 cm" in lines[-1]
+    walled = str(suite / "scenario-02.json")
+    result = CliRunner().invoke(
+        main, ["score", spec, floor, walled, "-c", "dwa", "--json"], catch_exceptions=False
+    )
+    records = [json.loads(line) for line in result.stdout.splitlines()]
+    assert [r["drive"]["dwa"]["outcome"] for r in records] == ["arrived", "no path"]
+    assert "trajectory" not in records[0]["drive"]["dwa"]
+    table = (
+        CliRunner().invoke(main, ["score", spec, floor, walled, "-c", "dwa"], catch_exceptions=False).stdout
+    )
+    assert table.splitlines()[0].endswith("drive dwa") and table.splitlines()[2].endswith("no path")
+    calls = len(fake.calls)
+    plain = CliRunner().invoke(main, ["score", spec, floor], catch_exceptions=False)
+    assert "drive" not in plain.stdout and len(fake.calls) == calls  # the factory spec names no controller
+
+
+def test_score_drives_the_controllers_the_spec_names_by_default():
+    from mazegen.runtime.documents.driving import spec_controllers
+    from mazegen.spec import ControllerSpec, FitnessTerm
+
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    assert spec_controllers(spec) == []
+    robot = robot_for(spec.arena, controllers=(ControllerSpec("purepursuit", (("lookahead", 50.0),)),))
+    terms = (FitnessTerm("drive", metric="disagree", controllers=("dwa", "purepursuit")),)
+    named = dataclasses.replace(spec, robot=robot, fitness=spec.fitness + terms)
+    assert spec_controllers(named) == ["purepursuit", "dwa"]
+
+
+def test_score_refuses_an_unknown_controller_in_one_line(suite):
+    spec, floor = str(EXAMPLES / "factory.maze"), str(suite / "scenario-01.json")
+    result = CliRunner().invoke(main, ["score", spec, floor, "-c", "nope"], catch_exceptions=False)
+    assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1 and "'nope'" in result.stderr

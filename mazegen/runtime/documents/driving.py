@@ -84,11 +84,24 @@ class Drive:
             "trajectory": [list(pose) for pose in self.trajectory],
         }
 
-    def record(self) -> dict[str, Any]:
-        """A JSON-ready line: the file, the controller and the section without its trajectory."""
+    def measures(self) -> dict[str, Any]:
+        """The section without its trajectory: what a line of output shows."""
         section = self.section()
         del section["trajectory"]
-        return {"file": self.file, "controller": self.controller, **section}
+        return section
+
+    def record(self) -> dict[str, Any]:
+        """A JSON-ready line: the file, the controller and :meth:`measures`."""
+        return {"file": self.file, "controller": self.controller, **self.measures()}
+
+    def line(self, unit: str) -> str:
+        """The drive in words: ``arrived, 31.1 s, 1555 cm driven, closest 14.8 cm, score 0.5``."""
+        if not self.driven:
+            return f"{self.outcome} (not driven)"
+        return (
+            f"{self.outcome}, {self.time:.1f} s, {self.distance:.1f} {unit} driven, "
+            f"closest {self.clearance or 0.0:.1f} {unit}, score {self.score:.3g}"
+        )
 
 
 def not_driven(file: str, controller: str) -> Drive:
@@ -141,8 +154,12 @@ class Floors:
         """The floors of ``(file, document)`` pairs, each document already checked against ``spec``."""
         table = ElementTable.from_types(spec.scenario_elements)
         population = population_from_documents(spec, table, list(documents))
-        solvable = navigation_of(population).solvable.copy()
-        return cls(spec, tuple(file for file, _ in documents), population, solvable)
+        return cls.of_population(spec, [file for file, _ in documents], population)
+
+    @classmethod
+    def of_population(cls, spec: Spec, files: Sequence[str], population: Population) -> Floors:
+        """The floors of a population made from the documents ``files`` (one individual each)."""
+        return cls(spec, tuple(files), population, navigation_of(population).solvable.copy())
 
     @property
     def robot(self) -> Robot:
@@ -177,6 +194,13 @@ class Floors:
             for row, index in enumerate(indices.tolist()):
                 drives[index][column] = episode_drive(self.files[index], episodes, row, scores)
         return drives
+
+
+def spec_controllers(spec: Spec) -> list[str]:
+    """The controllers a spec names, in its order: its robot block's, then its drive terms'."""
+    names = [controller.name for controller in spec.robot.controllers] if spec.robot else []
+    names += [name for term in spec.fitness if term.kind == "drive" for name in term.controllers]
+    return list(dict.fromkeys(names))
 
 
 @dataclass(frozen=True)
