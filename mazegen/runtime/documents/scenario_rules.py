@@ -1,6 +1,6 @@
 """What a scenario file may hold: read safely, then checked against one table of types and bounds.
 
-Every command that reads a scenario file (``score``, ``render``, ``export``,
+Every command that reads a scenario file (``score``, ``drive``, ``render``, ``export``,
 ``report``) goes through :func:`mazegen.runtime.documents.scenario.read_document`, which
 uses :func:`read_json` (the file read up to :data:`MAX_FILE_BYTES`, parsed with
 hooks that refuse over-long numbers, NaN and infinities) and
