@@ -53,17 +53,16 @@ def controller_names(given: Sequence[str]) -> list[str]:
     return names
 
 
-def controller_option(command: click.Command) -> click.Command:
-    """``--controller NAME`` (repeatable, or comma-separated names)."""
-    return click.option(
-        "-c",
-        "--controller",
-        "controllers",
-        multiple=True,
-        metavar="NAME",
-        help=f"A controller to drive with: {', '.join(BUNDLED)}, or package.module:name (repeatable, "
-        "or comma-separated).",
-    )(command)
+controller_option = click.option(
+    "-c",
+    "--controller",
+    "controllers",
+    multiple=True,
+    metavar="NAME",
+    help=f"A controller to drive with: {', '.join(BUNDLED)}, or package.module:name (repeatable, "
+    "or comma-separated).",
+)
+"""The ``--controller`` option of the commands that drive robots."""
 
 
 @click.command()
