@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import click
 
-from mazegen.cli.errors import reports_errors
+from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
 
@@ -144,9 +144,7 @@ def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[lis
             floor.needs_spec("driving")
             floor.population  # noqa: B018 - builds it, checking every element against the spec
         except MazeError as error:
-            if len(files) == 1:
-                raise
-            click.echo(str(error), err=True)
+            skip_file(error, alone=len(files) == 1)
             failed = True
             continue
         floors.append(floor)

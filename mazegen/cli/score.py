@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import click
 
 from mazegen.cli.drive import controller_names, controller_option
-from mazegen.cli.errors import reports_errors
+from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.errors import MazeError
 
 if TYPE_CHECKING:
@@ -60,9 +60,7 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
                     path, note=lambda message: click.echo(message, err=True), controllers=names
                 )
             except MazeError as error:
-                if len(files) == 1:
-                    raise
-                click.echo(str(error), err=True)
+                skip_file(error, alone=len(files) == 1)
                 failed = True
                 continue
             if as_json:
