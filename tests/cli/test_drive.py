@@ -161,6 +161,11 @@ def test_an_unknown_controller_is_one_line_naming_the_known_ones_before_anything
         "unknown controller 'dwb': known are dwa, purepursuit, straight, vfh, or a user's policy as "
         "package.module:name"
     ]
+    for given in ([], ["-c", ","]):  # no controller at all: one line, exit status 1
+        result = invoke(str(bad), *given)
+        assert (
+            result.exit_code == 1 and len(result.stderr.splitlines()) == 1 and "--controller" in result.stderr
+        )
 
 
 def test_a_bad_file_is_one_line_and_skipped_and_the_others_are_driven_with_exit_status_1(suite, monkeypatch):
