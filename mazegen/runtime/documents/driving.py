@@ -111,6 +111,8 @@ def not_driven(file: str, controller: str) -> Drive:
 
 def episode_drive(file: str, episodes: Episodes, index: int, scores: np.ndarray) -> Drive:
     """Episode ``index`` of ``episodes`` as a :class:`Drive`, rounded as documents are."""
+    if episodes.outcome[index] == NO_PATH:  # the simulator's path search found none either
+        return not_driven(file, episodes.controller)
     collision = episodes.collision[index]
     poses: tuple[tuple[float, float, float], ...] = ()
     if episodes.trajectory is not None:
