@@ -26,7 +26,7 @@ ENTRY_POINTS = "mazegen.controllers"
 """The entry point group under which packages register controllers."""
 
 PATHS = frozenset({"purepursuit"})
-"""Bundled controllers that follow MazeGen's path."""
+"""Bundled controllers that follow MazeGen's path; their last parameter is the path's margin."""
 
 
 @dataclass(frozen=True)

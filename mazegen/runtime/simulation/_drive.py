@@ -64,7 +64,7 @@ def drive(
         raise MazeError(f"indices must lie in [0, {population.size}), got {rows.min()}..{rows.max()}")
     poses = _starts(population, m, starts)
     world = world_of(population, rows)
-    paths = floor_paths(population, rows, corners=choice.path)
+    paths = floor_paths(population, rows, margin=choice.params[-1] if choice.path else None)
     optimal = paths.length / robot.max_speed
     max_steps = np.where(
         np.isnan(optimal), 0, np.ceil(robot.timeout * np.nan_to_num(optimal) / robot.step - 1e-9)
