@@ -25,8 +25,10 @@ from mazegen.spec import Arena, ControllerSpec, Robot, metres_per_unit
 ENTRY_POINTS = "mazegen.controllers"
 """The entry point group under which packages register controllers."""
 
-PATHS = frozenset({"purepursuit"})
+PATHS = frozenset({"purepursuit", "dwa"})
 """Bundled controllers that follow MazeGen's path; their last parameter is the path's margin."""
+FIELDS = frozenset({"dwa"})
+"""Bundled controllers that read the navigation and clearance fields (:mod:`._fields`)."""
 
 
 @dataclass(frozen=True)
