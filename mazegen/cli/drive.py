@@ -30,6 +30,10 @@ if TYPE_CHECKING:
 ENTRY_POINTS = "mazegen.controllers"
 """The entry point group under which installed packages register controllers."""
 
+DRIVE_KERNELS = ("paths._navigate_all", "_loop.run_all")
+"""The kernels every drive calls (named by file, as in :data:`mazegen.runtime.SCORE_KERNELS`): the
+floors' paths, and the episode loop, which compiles with every bundled controller."""
+
 
 def controller_names(given: Sequence[str]) -> list[str]:
     """The controllers of ``--controller`` options (each one name or a comma-separated list), in
@@ -97,9 +101,11 @@ def drive(
     names = controller_names(controllers)
     from mazegen.runtime.documents.driving import Floors, summaries
     from mazegen.runtime.exporters.batch import scenario_files
+    from mazegen.runtime.runs.progress import QuietReporter, note_first_compile
 
     resolved = _load_spec(spec)
     files = scenario_files(source)
+    note_first_compile(QuietReporter(), kernels=DRIVE_KERNELS)  # on standard error, as every note
     loaded, failed = _load_floors(files, resolved)
     drives: list[list[Drive]] = []
     floors_of: list[Floor] = []

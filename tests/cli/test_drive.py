@@ -258,3 +258,18 @@ def test_score_refuses_an_unknown_controller_in_one_line(suite):
     spec, floor = str(EXAMPLES / "factory.maze"), str(suite / "scenario-01.json")
     result = CliRunner().invoke(main, ["score", spec, floor, "-c", "nope"], catch_exceptions=False)
     assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1 and "'nope'" in result.stderr
+
+
+def test_a_first_drive_says_it_compiles_and_names_kernels_a_drive_compiles(suite, monkeypatch):
+    import numba
+
+    import mazegen.runtime
+    from mazegen.cli.drive import DRIVE_KERNELS
+
+    asked = []
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): asked.append(kernels) or False)
+    result = invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")
+    assert result.exit_code == 0 and asked == [DRIVE_KERNELS]
+    assert result.stderr.splitlines()[0].startswith("compiling MazeGen's kernels")
+    folder = Path(numba.config.CACHE_DIR)  # the real drive above has filled it
+    assert all(any(folder.rglob(f"{kernel}-*.nbi")) for kernel in DRIVE_KERNELS)
