@@ -25,3 +25,11 @@ def reports_errors(command: F) -> F:
             raise SystemExit(1) from None
 
     return wrapper  # type: ignore[return-value]
+
+
+def skip_file(error: MazeError, *, alone: bool) -> None:
+    """A file's mistake in a command over many files: one line on standard error, so that the others
+    go on; the command's own error (raised) when the file is ``alone``."""
+    if alone:
+        raise error
+    click.echo(str(error), err=True)

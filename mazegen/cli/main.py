@@ -24,6 +24,7 @@ COMMANDS = {
     "suite": "suite",
     "map": "map_command",
     "score": "score",
+    "drive": "drive",
     "render": "render",
     "export": "export",
     "report": "report",

@@ -1,9 +1,10 @@
 """``mazegen score SPEC SCENARIO.json|DIR...``: the fitness of scenarios under a spec.
 
 One scenario prints each number on a line of its own; several print a table, one row per
-file; ``--json`` prints one object per scenario and line. A file that cannot be read or
-scored is reported on one line of standard error and skipped; the others are scored, and
-the command ends with exit status 1.
+file; ``--json`` prints one object per scenario and line. Each controller of ``--controller``,
+or else each the spec names (its robot block's and drive terms'), drives every scenario too.
+A file that cannot be read or scored is reported on one line of standard error and skipped;
+the others are scored, and the command ends with exit status 1.
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ from typing import TYPE_CHECKING
 
 import click
 
-from mazegen.cli.errors import reports_errors
+from mazegen.cli.drive import controller_names, controller_option
+from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.errors import MazeError
 
 if TYPE_CHECKING:
@@ -27,21 +29,26 @@ if TYPE_CHECKING:
 @click.option(
     "--json", "as_json", is_flag=True, help="One JSON object per scenario and line: every term and metric."
 )
+@controller_option
 @reports_errors
-def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool) -> None:
+def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: tuple[str, ...]) -> None:
     """Print the fitness of each SCENARIO under SPEC, its terms, solvability and difficulty metrics.
 
     A folder stands for every scenario file below it (a run directory's best scenarios).
     A scenario whose arena gives a start and goal is scored on them (a note says so when
     they are not the spec's). A file that cannot be scored is reported on one line and
-    skipped; the exit status is then 1.
+    skipped; the exit status is then 1. Each --controller (default: those the spec names) drives
+    each scenario: its outcome, time, distance, closest approach and BARN's score.
     """
+    names = controller_names(controllers) if controllers else None
     from mazegen.dsl.loader import load_spec
     from mazegen.runtime import SCORE_KERNELS
+    from mazegen.runtime.documents.driving import spec_controllers
     from mazegen.runtime.documents.scoring import Scorer
     from mazegen.runtime.runs.progress import QuietReporter, note_first_compile
 
     resolved = load_spec(spec)
+    names = spec_controllers(resolved) if names is None else names
     files = scenario_files(scenarios)
     note_first_compile(QuietReporter(), kernels=SCORE_KERNELS)  # on standard error, as every note
     scored: list[Scored] = []
@@ -49,11 +56,11 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool) -> None:
     with Scorer.built(resolved) as scorer:
         for path in files:
             try:
-                result = scorer.score(path, note=lambda message: click.echo(message, err=True))
+                result = scorer.score(
+                    path, note=lambda message: click.echo(message, err=True), controllers=names
+                )
             except MazeError as error:
-                if len(files) == 1:
-                    raise
-                click.echo(str(error), err=True)
+                skip_file(error, alone=len(files) == 1)
                 failed = True
                 continue
             if as_json:
@@ -62,6 +69,8 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool) -> None:
     if not as_json and len(files) == 1:
         for line in scenario_lines(scored[0], resolved.arena.unit, resolved.arena.cell):
             click.echo(line)
+        for drive in scored[0].drives:
+            click.echo(f"drive {drive.controller}\t{drive.line(resolved.arena.unit)}")
     elif not as_json and scored:
         click.echo(score_table(scored))
     if failed:
@@ -118,11 +127,14 @@ def score_table(scored: list[Scored]) -> str:
             "solvable": "yes" if result.measured["solvable"] else "no",
             "difficulty": result.measured["difficulty"],
             **{f"term {key}": value + 0.0 for key, value in result.terms.items()},
+            **{f"drive {drive.controller}": drive.outcome for drive in result.drives},
         }
         for result in scored
     ]
     columns = [(name, name) for name in ("file", "fitness", "elements", "solvable", "difficulty")]
-    return text_table(rows, [*columns, *((f"term {key}", f"term {key}") for key in keys)], digits=4)
+    columns += [(f"term {key}", f"term {key}") for key in keys]
+    columns += [(f"drive {drive.controller}", f"drive {drive.controller}") for drive in scored[0].drives]
+    return text_table(rows, columns, digits=4)
 
 
 def scenario_lines(result: Scored, unit: str, cell: float) -> list[str]:

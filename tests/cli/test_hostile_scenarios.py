@@ -50,6 +50,7 @@ def test_mutated_scenarios_give_one_line_errors_or_files_that_parse(tmp_path):
             ["score", SPEC, str(path)],
             ["render", str(path), "-o", str(out / "floor.svg"), *(["--spec", SPEC] if index % 2 else [])],
             ["export", str(path), "-f", next(formats), "-o", str(out), "--spec", SPEC],
+            ["drive", str(path), "-c", "straight", "--spec", SPEC, "-o", str(out / "driven")],
         ]
         for args in commands:
             result = runner.invoke(main, args, catch_exceptions=False)  # a traceback fails the test

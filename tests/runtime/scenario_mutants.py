@@ -35,6 +35,30 @@ def whole_document() -> dict[str, Any]:
         "placement": [[1, 2, 3, 4, 5]] * 3,
         "suite": {"cell": 0, "difficulty": "0-10", "elements": "1-3"},
     }
+    document["drive"] = {
+        "straight": {
+            "outcome": "collision",
+            "time": 1.2,
+            "distance": 60.0,
+            "clearance": 0.0,
+            "optimal_time": 32.8,
+            "score": 0.0,
+            "stuck": False,
+            "collision": [120.0, 60.0],
+            "trajectory": [[60.0, 60.0, 36.0], [90.0, 60.0, 0.0], [120.0, 60.0, 0.0]],
+        },
+        "dwa": {
+            "outcome": "arrived",
+            "time": 70.1,
+            "distance": 1650.2,
+            "clearance": 12.5,
+            "optimal_time": 32.8,
+            "score": 0.4679,
+            "stuck": False,
+            "collision": None,
+            "trajectory": [[60.0, 60.0, 36.0], [1340.0, 990.0, 36.0]],
+        },
+    }
     return json.loads(json.dumps(document))
 
 

@@ -189,11 +189,29 @@ def population_from_document(
     spec: Spec, table: ElementTable, document: dict[str, Any], filename: str
 ) -> Population:
     """A one-individual :class:`Population` from a scenario document, checked against ``spec``."""
+    return population_from_documents(spec, table, [(filename, document)])
+
+
+def population_from_documents(
+    spec: Spec, table: ElementTable, documents: list[tuple[str, dict[str, Any]]]
+) -> Population:
+    """A :class:`Population` of scenario documents, one individual each in their order, on ``spec``'s
+    arena, each checked against ``spec``; ``documents`` are ``(filename, document)`` pairs."""
+    slots = max([len(document["elements"]) for _, document in documents] + [1])
+    ids = np.full((len(documents), slots), -1, dtype=np.int32)
+    params = np.zeros((len(documents), slots, PLACEMENT_GENES), dtype=np.float64)
+    for index, (filename, document) in enumerate(documents):
+        _place_elements(spec, document["elements"], ids[index], params[index], filename)
+    count = np.array([len(document["elements"]) for _, document in documents], dtype=np.int32)
+    valid = np.ones(len(documents), dtype=np.bool_)
+    return Population(ids, count, lambda: params, valid, table, spec.arena, spec.reads_difficulty)
+
+
+def _place_elements(
+    spec: Spec, elements: list[dict[str, Any]], ids: np.ndarray, params: np.ndarray, filename: str
+) -> None:
+    """Write a document's ``elements`` into one individual's element ids and placement rows."""
     names = list(spec.scenario.elements)
-    elements = document["elements"]
-    slots = max(len(elements), 1)
-    ids = np.full((1, slots), -1, dtype=np.int32)
-    params = np.zeros((1, slots, PLACEMENT_GENES), dtype=np.float64)
     for slot, item in enumerate(elements):
         where = f"elements[{slot}]"
         if item.get("type") not in names:
@@ -203,13 +221,11 @@ def population_from_document(
                 filename=filename,
             )
         kind = spec.element(item["type"])
-        ids[0, slot] = names.index(kind.name)
+        ids[slot] = names.index(kind.name)
         sizes = ("size",) if kind.uniform else ("width", "depth")
         _require(item, ("x", "y", *sizes), where, filename)
         sx, sy = (item[sizes[0]], item[sizes[-1]])
-        params[0, slot] = (item["x"], item["y"], sx, sy, math.radians(item.get("rotation", 0.0)))
-    count = np.array([len(elements)], dtype=np.int32)
-    return Population(ids, count, lambda: params, np.array([True]), table, spec.arena, spec.reads_difficulty)
+        params[slot] = (item["x"], item["y"], sx, sy, math.radians(item.get("rotation", 0.0)))
 
 
 def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> dict[str, Any]:

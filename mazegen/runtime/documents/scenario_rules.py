@@ -1,6 +1,6 @@
 """What a scenario file may hold: read safely, then checked against one table of types and bounds.
 
-Every command that reads a scenario file (``score``, ``render``, ``export``,
+Every command that reads a scenario file (``score``, ``drive``, ``render``, ``export``,
 ``report``) goes through :func:`mazegen.runtime.documents.scenario.read_document`, which
 uses :func:`read_json` (the file read up to :data:`MAX_FILE_BYTES`, parsed with
 hooks that refuse over-long numbers, NaN and infinities) and
@@ -27,7 +27,7 @@ MAX_FILE_BYTES = 64 * 2**20
 MAX_NUMBER_CHARACTERS = 40
 """Longest number literal read: MazeGen writes at most 19 digits (a 64-bit seed)."""
 MAX_DEPTH = 16
-"""Deepest nesting of lists and objects; the format's own is 4 (``origin.placement[i][j]``)."""
+"""Deepest nesting of lists and objects; the format's own is 5 (``drive.NAME.trajectory[i][j]``)."""
 MAX_ELEMENTS = 1000
 """Most elements a floor has: the language's bound on ``max elements``."""
 MAX_PARTS = 1024
@@ -36,6 +36,12 @@ MAX_VERTICES = 1024
 """Most vertices of one part."""
 MAX_PATH = 1_000_000
 """Most corners of a path."""
+MAX_POSES = 1_000_000
+"""Most poses of a driven trajectory: a 100,000 s episode at the default 0.1 s step."""
+MAX_SECONDS = 1e9
+"""Longest time of a drive, in seconds."""
+DRIVE_OUTCOMES = ("arrived", "collision", "timeout", "no path")
+"""How a drive ended: the simulator's outcomes (a floor without a path is not driven: ``no path``)."""
 MIN_LENGTH = 1e-4
 """Smallest size, in arena units: documents round to 4 decimals, so a smaller one is written as 0."""
 MAX_LENGTH = 1e9
@@ -166,6 +172,21 @@ DOCUMENT = Fields(
         ),
         "path": Items(POINT, least=2, most=MAX_PATH, null=True),
         "valid": Flag(),
+        "drive": Mapping(
+            Fields(
+                {
+                    "outcome": Text(choices=DRIVE_OUTCOMES),
+                    "time": Number(low=0, high=MAX_SECONDS),
+                    "distance": Number(low=0, high=MAX_LENGTH),
+                    "clearance": Number(low=0, high=MAX_LENGTH, null=True),
+                    "optimal_time": Number(low=0, high=MAX_SECONDS, null=True),
+                    "score": Number(low=0, high=0.5),
+                    "stuck": Flag(),
+                    "collision": Items(COORDINATE, least=2, most=2, null=True),
+                    "trajectory": Items(Items(COORDINATE, least=3, most=3), most=MAX_POSES),
+                }
+            )
+        ),
         "origin": Fields(
             {
                 "seed": Number(low=0, high=2**63 - 1, integer=True),

@@ -1,4 +1,5 @@
-"""Scoring scenario documents under a spec, for ``mazegen score``: fitness, terms, solvability, metrics.
+"""Scoring scenario documents under a spec, for ``mazegen score``: fitness, terms, solvability, metrics,
+and how controllers drive them.
 
 The spec is built and its fitness module loaded once, then any number of documents are
 scored with it. A document is scored on its own task: the start and goal its ``arena``
@@ -11,13 +12,14 @@ from __future__ import annotations
 import dataclasses
 import math
 import tempfile
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from mazegen.errors import MazeError
+from mazegen.runtime.documents.driving import Drive, Floors
 from mazegen.runtime.documents.scenario import population_from_document, read_document
 from mazegen.runtime.engine.problem import Problem
 from mazegen.runtime.navigation.measures import survey_of
@@ -36,6 +38,7 @@ class Scored:
         measured: Solvability, occupied fraction and the difficulty metrics (None where unsolvable).
         start: The start it was scored with.
         goal: The goal it was scored with.
+        drives: How each controller asked for drove it, in their order.
     """
 
     file: str
@@ -45,6 +48,7 @@ class Scored:
     measured: dict[str, bool | float | None]
     start: Point
     goal: Point
+    drives: tuple[Drive, ...] = ()
 
     @property
     def valid(self) -> bool:
@@ -63,6 +67,11 @@ class Scored:
             "goal": list(self.goal),
             "terms": {key: _finite(value) for key, value in self.terms.items()},
             "metrics": self.measured,
+            **(
+                {"drive": {drive.controller: drive.measures() for drive in self.drives}}
+                if self.drives
+                else {}
+            ),
         }
 
 
@@ -119,8 +128,9 @@ class Scorer:
             build(spec, Path(temp))
             yield cls(spec, Problem.from_build_dir(Path(temp)))
 
-    def score(self, path: Path, *, note: Callable[[str], None]) -> Scored:
-        """Score the scenario file ``path``; ``note`` hears when its task is not the spec's.
+    def score(self, path: Path, *, note: Callable[[str], None], controllers: Sequence[str] = ()) -> Scored:
+        """Score the scenario file ``path`` and drive it with each of ``controllers``; ``note`` hears when
+        its task is not the spec's.
 
         Raises:
             MazeError: naming the file, for one that cannot be read or scored.
@@ -137,6 +147,9 @@ class Scorer:
         task = dataclasses.replace(self.spec, arena=arena)
         population = population_from_document(task, self.problem.table, document, filename)
         fitness, terms = self.problem.score(population)
+        drives = (
+            Floors.of_population(task, [filename], population).drive(controllers)[0] if controllers else []
+        )
         return Scored(
             file=filename,
             fitness=float(fitness[0]),
@@ -145,4 +158,5 @@ class Scorer:
             measured=survey_of(population).summary(0),
             start=arena.start,
             goal=arena.goal,
+            drives=tuple(drives),
         )

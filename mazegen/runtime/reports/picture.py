@@ -4,8 +4,10 @@
 the same thing: the arena (y up, flipped to the image's y down) with axes in the
 arena unit, every part of every element as a semi-opaque polygon in the element's
 colour, the robot's path when the document has one or a "no path" mark when its
-metrics say there is none, the start and goal as circles of the robot radius, a
-title, a legend with a count per element type and a scale bar. What is drawn
+metrics say there is none, each driven controller's trajectory as a line in its own
+colour (an × where it collided), the start and goal as circles of the robot radius, a
+title, a legend with a count per element type, the path and each controller, and a
+scale bar. What is drawn
 inside the arena belongs to a group clipped to the arena's frame, so that large
 elements never cover the title, legend, axes or scale bar.
 """
@@ -37,7 +39,16 @@ PAPER: RGB = (244, 244, 244)
 WHITE: RGB = (255, 255, 255)
 FILL_OPACITY = 0.7
 MARKER_OPACITY = 0.85
-CLIPPED = ("elements", "no-path")
+DRIVE_COLOURS: tuple[RGB, ...] = (
+    (31, 119, 180),  # blue
+    (255, 127, 14),  # orange
+    (148, 103, 189),  # purple
+    (23, 190, 207),  # cyan
+    (140, 86, 75),  # brown
+    (188, 189, 34),  # olive
+)
+"""The trajectories' colours, none of them the path's, the start's or the goal's."""
+CLIPPED = ("elements", "no-path", "drive")
 """The groups drawn inside the arena, clipped to its frame."""
 _MIN_FONT = 10.0  # pixels: small pictures (the report's thumbnails) stay readable
 # Characters XML 1.0 does not allow, even escaped.
@@ -52,6 +63,17 @@ class _Element:
 
 
 @dataclass(frozen=True)
+class Driven:
+    """One controller's drive through the floor: its trajectory and where it collided."""
+
+    controller: str
+    outcome: str
+    colour: RGB
+    trajectory: tuple[Point, ...]
+    collision: Point | None
+
+
+@dataclass(frozen=True)
 class Scene:
     """What the picture shows of a scenario document."""
 
@@ -61,6 +83,7 @@ class Scene:
     fitness: str
     path: tuple[Point, ...]
     unsolvable: bool
+    drives: tuple[Driven, ...] = ()
 
     @property
     def title(self) -> str:
@@ -161,9 +184,29 @@ def parse(doc: dict) -> Scene:
             fitness=f"{fitness:.4g}" if isinstance(fitness, (int, float)) else "n/a",
             path=tuple(_point(p) for p in path) if len(path) >= 2 else (),
             unsolvable=isinstance(metrics, dict) and metrics.get("solvable") is False,
+            drives=_drives(doc.get("drive")),
         )
-    except (KeyError, TypeError, ValueError) as exc:
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:  # AttributeError: a drive not an object
         raise MazeError(f"bad scenario document: {exc!r}") from exc
+
+
+def _drives(section: Any) -> tuple[Driven, ...]:
+    """The controllers' drives of a document's ``drive`` section, coloured in its order."""
+    if not section:
+        return ()
+    drives = []
+    for index, (name, entry) in enumerate(section.items()):
+        collision = entry.get("collision")
+        drives.append(
+            Driven(
+                controller=label(name, 40),
+                outcome=label(entry.get("outcome", ""), 20),
+                colour=DRIVE_COLOURS[index % len(DRIVE_COLOURS)],
+                trajectory=tuple(_point(pose[:2]) for pose in entry.get("trajectory") or ()),
+                collision=None if collision is None else _point(collision),
+            )
+        )
+    return tuple(drives)
 
 
 def _nice_length(target: float) -> float:
@@ -218,7 +261,8 @@ def layout(scene: Scene, pixels: int) -> Picture:
     types = Counter(e.kind for e in scene.elements)
     max_rows = int((pixels - title_h - pad) / row)
     width = round(ox + k * scene.arena.width + gap + side + pad)
-    legend_rows = len(types) + 2 + bool(scene.path or scene.unsolvable)  # types, start, goal, path
+    # types, start, goal, path, controllers
+    legend_rows = len(types) + 2 + bool(scene.path or scene.unsolvable) + len(scene.drives)
     legend_h = title_h + min(legend_rows, max_rows) * row
     height = min(pixels, round(max(oy + k * scene.arena.height + bottom_h, legend_h)))
 
@@ -241,7 +285,8 @@ def layout(scene: Scene, pixels: int) -> Picture:
 
 
 def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> list[Shape]:
-    """The elements, the path or the "no path" mark, start and goal: the clipped groups."""
+    """The elements, the path or the "no path" mark, the trajectories, start and goal, and the
+    collisions: the clipped groups."""
     shapes = [
         Shape(
             "polygon",
@@ -259,6 +304,7 @@ def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> l
         shapes.append(
             Shape("polyline", tuple(at(p) for p in scene.path), stroke=PATH, width=2.5 * u, group="elements")
         )
+    shapes += _trajectories(scene, at, u)
     radius = max(3.0, k * scene.arena.robot_radius)
     for point, colour in ((scene.arena.start, START), (scene.arena.goal, GOAL)):
         shapes.append(
@@ -273,8 +319,43 @@ def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> l
                 group="elements",
             )
         )
+    shapes += _collisions(scene, at, radius, u)
     if scene.unsolvable:
         shapes += _no_path_mark(at(scene.arena.start), at(scene.arena.goal), u, font)
+    return shapes
+
+
+def _trajectories(scene: Scene, at: Any, u: float) -> list[Shape]:
+    """Each controller's trajectory as a line in its colour."""
+    return [
+        Shape(
+            "polyline",
+            tuple(at(p) for p in drive.trajectory),
+            stroke=drive.colour,
+            width=2 * u,
+            group="drive",
+        )
+        for drive in scene.drives
+        if len(drive.trajectory) >= 2
+    ]
+
+
+def _collisions(scene: Scene, at: Any, size: float, u: float) -> list[Shape]:
+    """An × of the robot's size in the controller's colour where it collided, over start and goal."""
+    shapes = []
+    for drive in scene.drives:
+        if drive.collision is not None:
+            x, y = at(drive.collision)
+            shapes += [
+                Shape(
+                    "line",
+                    ((x - a, y - size), (x + a, y + size)),
+                    stroke=drive.colour,
+                    width=3 * u,
+                    group="drive",
+                )
+                for a in (size, -size)
+            ]
     return shapes
 
 
@@ -349,6 +430,7 @@ def _legend(
         entries.append(("line", f"path ({_with_unit(travelled, scene.arena.unit)})", PATH))
     elif scene.unsolvable:
         entries.append(("line", "no path", NO_PATH))
+    entries += [("line", f"{drive.controller}: {drive.outcome}", drive.colour) for drive in scene.drives]
     if len(entries) > max_rows:
         hidden = len(entries) - max_rows + 1
         entries = [*entries[: max_rows - 1], ("none", f"+{hidden} more", INK)]

@@ -1,8 +1,9 @@
 """HTML pieces of the report pages (runs, suites, sweeps): settings, scenario figures, tables.
 
 A figure is a readable drawing of one scenario, linked to its full picture and its
-JSON file, with a table of its fitness terms and metrics and its phenotype (folded
-when long). Links are relative to the folder the page is written into.
+JSON file, with a table of its fitness terms and metrics, a table of its drive when robots
+drove it (``mazegen drive -o``), and its phenotype (folded when long). Links are relative to the
+folder the page is written into.
 """
 
 from __future__ import annotations
@@ -108,6 +109,25 @@ def metrics_table(document: dict[str, Any]) -> str:
     return f'<table class="metrics">{body}</table>'
 
 
+def drive_table(document: dict[str, Any]) -> str:
+    """A row per controller that drove the floor: outcome, time, distance, closest approach and BARN's
+    score; nothing when the document carries no drive."""
+    drive = document.get("drive") or {}
+    if not drive:
+        return ""
+    names = ("controller", "outcome", "time s", "distance", "closest", "score")
+    head = "<tr>" + "".join(f"<th>{name}</th>" for name in names) + "</tr>"
+    rows = []
+    for name, entry in drive.items():
+        cells = [e(name), e(entry.get("outcome"))]
+        cells += [
+            f'<td class="n">{e(_value(entry.get(key)))}</td>'
+            for key in ("time", "distance", "clearance", "score")
+        ]
+        rows.append(f"<tr><td>{cells[0]}</td><td>{cells[1]}</td>{''.join(cells[2:])}</tr>")
+    return f'<table class="drive">{head}{"".join(rows)}</table>'
+
+
 def phenotype_html(phenotype: str | None) -> str:
     """The phenotype in full, folded in a ``<details>`` when long."""
     text = phenotype or ""
@@ -150,6 +170,7 @@ def figure(saved: Saved, links_from: Path) -> str:
     return (
         f'<figure><a href="{e(link(target, links_from))}"><img alt="{text}" src="{data_uri(drawing)}"></a>'
         f"<figcaption>{text} · {file_links(saved, links_from)}{metrics_table(saved.document)}"
+        f"{drive_table(saved.document)}"
         f"{phenotype_html(saved.document.get('phenotype'))}</figcaption></figure>"
     )
 

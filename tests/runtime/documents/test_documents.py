@@ -118,6 +118,21 @@ BAD_DOCUMENTS = [
      "elements[1]: give 'size', or 'width' and 'depth' for a rect, not 'size', 'width'"),
     ("width alone", changed(lambda d: d["elements"][0].pop("depth")),
      "elements[0]: give 'size', or 'width' and"),
+    ("drive outcome", changed(lambda d: d["drive"]["dwa"].update(outcome="crashed")),
+     'drive.dwa.outcome: must be one of arrived, collision, timeout, no path, got "crashed"'),
+    ("drive pose of two", changed(lambda d: d["drive"]["dwa"].update(trajectory=[[1, 2]])),
+     "drive.dwa.trajectory[0]: must be a list of exactly 3 items, got 2 items"),
+    ("drive far pose", changed(lambda d: d["drive"]["dwa"]["trajectory"][1].__setitem__(0, 1e10)),
+     "drive.dwa.trajectory[1][0]: must be a number from -1e+09 to 1e+09"),
+    ("drive negative time", changed(lambda d: d["drive"]["dwa"].update(time=-1)),
+     "drive.dwa.time: must be a number from 0 to 1e+09, got -1"),
+    ("drive score above BARN's", changed(lambda d: d["drive"]["dwa"].update(score=0.9)),
+     "drive.dwa.score: must be a number from 0 to 0.5, got 0.9"),
+    ("drive collision text", changed(lambda d: d["drive"]["straight"].update(collision="here")),
+     'drive.straight.collision: must be a list or null, got "here"'),
+    ("drive controller name", changed(lambda d: d["drive"].update({"a\x1bb": {}})),
+     "drive: a name: must be a name"),
+    ("drive not an object", changed(lambda d: d.update(drive=[])), "drive: must be an object, got []"),
     ("not UTF-8", lambda d: "\udcff", "cannot read scenario: not UTF-8 text"),
     ("not JSON", lambda d: "{not json", "floor.json:1:2: not valid JSON: Expecting property name"),
 ]  # fmt: skip
@@ -158,6 +173,15 @@ def test_hand_written_floors_and_whole_documents_pass(whole, tmp_path):
     assert read_document(path)["elements"] == HAND
     assert read_document(write(tmp_path / "whole.json", text_of(whole))) == whole
     assert list(VALIDATOR.iter_errors(whole)) == []
+
+
+def test_a_document_without_its_drive_is_read_and_the_drive_outcomes_are_the_simulators(whole, tmp_path):
+    from mazegen.runtime.simulation import OUTCOMES
+
+    bare = {key: value for key, value in whole.items() if key != "drive"}
+    assert "drive" not in read_document(write(tmp_path / "bare.json", text_of(bare)))
+    assert read_document(write(tmp_path / "driven.json", text_of(whole)))["drive"] == whole["drive"]
+    assert OUTCOMES == scenario_rules.DRIVE_OUTCOMES
 
 
 def test_the_units_are_those_exports_know():

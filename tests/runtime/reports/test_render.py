@@ -412,3 +412,58 @@ def test_tick_labels_stay_short_and_apart(width: float) -> None:
     widest = max(len(t.text or "") for t in below) * 0.6 * 13  # pixels, about, at font size 13
     assert min(b - a for a, b in itertools.pairwise(xs)) > widest
     assert x0 - 1 <= xs[0] and xs[-1] <= x1 + 1
+
+
+def driven(doc: dict) -> dict:
+    """``doc`` driven by two controllers: ``straight`` collided at (700, 400), ``dwa`` arrived."""
+    crash = [[60, 60, 0], [400, 300, 30], [700, 400, 30]]
+    arrival = [[60, 60, 0], [700, 100, 0], [1340, 990, 50]]
+    doc["drive"] = {
+        "straight": {"outcome": "collision", "trajectory": crash, "collision": [700.0, 400.0]},
+        "dwa": {"outcome": "arrived", "trajectory": arrival, "collision": None},
+    }
+    return doc
+
+
+def test_each_controller_is_a_line_in_its_colour_named_in_the_legend_with_an_x_where_it_collided(
+    doc: dict,
+) -> None:
+    svg = scenario_svg(driven(doc))
+    root = ET.fromstring(svg)
+    (group,) = [
+        g for g in root.iter(f"{SVG}g") if g.get("class") == "drive" and g.find(f"{SVG}polyline") is not None
+    ]
+    lines = group.findall(f"{SVG}polyline")
+    assert len(lines) == 2 and lines[0].get("stroke") != lines[1].get("stroke")
+    x0, y0, x1, y1 = frame_of(svg)
+
+    def at(x: float, y: float) -> tuple[float, float]:  # arena units to the picture's pixels, y down
+        return x0 + (x1 - x0) * x / 1400, y1 - (y1 - y0) * y / 1050
+
+    ends = [tuple(map(float, line.get("points", "").split()[-1].split(","))) for line in lines]
+    assert ends[0] == pytest.approx(at(700, 400), abs=0.01) and ends[1] == pytest.approx(
+        at(1340, 990), abs=0.01
+    )
+    cross = [g for g in root.iter(f"{SVG}g") if g.get("class") == "drive"][-1].findall(f"{SVG}line")
+    assert len(cross) == 2 and {line.get("stroke") for line in cross} == {lines[0].get("stroke")}
+    for line in cross:  # both strokes of the × are centred on the collision point, and cross there
+        a = (float(line.get("x1", "0")), float(line.get("y1", "0")))
+        b = (float(line.get("x2", "0")), float(line.get("y2", "0")))
+        assert ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2) == pytest.approx(at(700, 400), abs=0.01)
+    ends_of = [[float(line.get(key, "0")) for key in ("x1", "y1", "x2", "y2")] for line in cross]
+    slopes = [(y2 - y1) / (x2 - x1) for x1, y1, x2, y2 in ends_of]
+    assert sorted(slopes) == pytest.approx([-1.0, 1.0], abs=0.01)  # coordinates to 2 decimals
+    assert {"straight: collision", "dwa: arrived"} <= set(texts(svg))
+
+
+def test_a_document_without_a_drive_draws_no_trajectory(doc: dict) -> None:
+    assert not [g for g in ET.fromstring(scenario_svg(doc)).iter(f"{SVG}g") if g.get("class") == "drive"]
+
+
+def test_png_shows_each_trajectory(doc: dict) -> None:
+    def blue(data: bytes) -> int:  # the first controller's colour, #1f77b4
+        r, g, b = pixels_of(data).transpose(2, 0, 1)
+        return int(((abs(r - 31) < 30) & (abs(g - 119) < 30) & (abs(b - 180) < 30)).sum())
+
+    without = blue(scenario_png(doc))
+    assert blue(scenario_png(driven(doc))) > without + 200

@@ -312,3 +312,18 @@ def test_scenario_words_of_grammar_placement_and_custom_rules(write_spec):
     )
     words = scenario_words(custom.scenario)
     assert words[0] == "elements cobot, router" and words[1].startswith("grammar custom { ... }  // 2 rules")
+
+
+def test_a_driven_scenario_shows_its_drive_table(factory_run, tmp_path):
+    run = tmp_path / "run"
+    shutil.copytree(factory_run, run)
+    best = run / "run-01" / "best-01.json"
+    document = json.loads(best.read_text())
+    entry = {"outcome": "collision", "time": 4.25, "distance": 120.5, "clearance": 0.0, "optimal_time": 30.0}
+    entry.update(score=0.0, stuck=False, collision=[100.0, 80.0], trajectory=[[60.0, 60.0, 0.0]])
+    document["drive"] = {"straight": entry}
+    best.write_text(json.dumps(document))
+    page = Page(report_html(read_run(run)))
+    assert page.opened.count("figure") == 2
+    assert page.text.count("collision") == 1 and "4.25" in page.text and "120.5" in page.text
+    assert report_html(read_run(factory_run)).count('class="drive"') == 0

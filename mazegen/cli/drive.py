@@ -1,0 +1,240 @@
+"""``mazegen drive SCENARIO.json|RUN_DIR|SUITE_DIR --controller NAME... [--json] [-o DIR]``: robots
+driven through scenarios.
+
+Each controller drives every floor in one batch; a floor where the robot has no path from start
+to goal is reported (one line on standard error) before anything is driven, and not driven. A
+file that cannot be read is reported on one line and skipped; the others are driven, and the
+command ends with exit status 1. ``-o DIR`` writes each scenario document with its ``drive``
+section, and its picture, to the same relative place in ``DIR``.
+"""
+
+from __future__ import annotations
+
+import importlib.metadata
+import json
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import click
+
+from mazegen.cli.errors import reports_errors, skip_file
+from mazegen.controllers import BUNDLED
+from mazegen.errors import MazeError
+
+if TYPE_CHECKING:
+    from mazegen.runtime.documents.driving import Drive, Floors, Summary
+    from mazegen.runtime.exporters.floor import Floor
+    from mazegen.spec import Spec
+
+ENTRY_POINTS = "mazegen.controllers"
+"""The entry point group under which installed packages register controllers."""
+
+DRIVE_KERNELS = ("paths._navigate_all", "_loop.run_all")
+"""The kernels every drive calls (named by file, as in :data:`mazegen.runtime.SCORE_KERNELS`): the
+floors' paths, and the episode loop, which compiles with every bundled controller."""
+
+
+def controller_names(given: Sequence[str]) -> list[str]:
+    """The controllers of ``--controller`` options (each one name or a comma-separated list), in
+    order, each once; an unknown one is one line naming the known ones and exit status 2.
+
+    A name is known when it is bundled, a dotted path ``package.module:name`` to a user's
+    policy (loaded when it drives), or registered by an installed package.
+    """
+    names = list(dict.fromkeys(name.strip() for text in given for name in text.split(",") if name.strip()))
+    registered = {point.name for point in importlib.metadata.entry_points(group=ENTRY_POINTS)}
+    for name in names:
+        if name not in BUNDLED and ":" not in name and name not in registered:
+            known = ", ".join(sorted({*BUNDLED, *registered}))
+            click.echo(
+                f"unknown controller {name!r}: known are {known}, or a user's policy as package.module:name",
+                err=True,
+            )
+            raise SystemExit(2)
+    if not names:
+        raise MazeError("--controller names no controller")
+    return names
+
+
+controller_option = click.option(
+    "-c",
+    "--controller",
+    "controllers",
+    multiple=True,
+    metavar="NAME",
+    help=f"A controller to drive with: {', '.join(BUNDLED)}, or package.module:name (repeatable, "
+    "or comma-separated).",
+)
+"""The ``--controller`` option of the commands that drive robots."""
+
+
+@click.command()
+@click.argument("source", type=click.Path(exists=True, path_type=Path))
+@controller_option
+@click.option(
+    "--spec",
+    type=click.Path(exists=True, dir_okay=False, path_type=Path),
+    help="The scenarios' spec, when it is not in their run or suite directory.",
+)
+@click.option(
+    "--json", "as_json", is_flag=True, help="One JSON object per scenario and controller, a line each."
+)
+@click.option(
+    "-o",
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Write each scenario with its drive, and its picture, here (the source's own folder: in place).",
+)
+@reports_errors
+def drive(
+    source: Path, controllers: tuple[str, ...], spec: Path | None, as_json: bool, out: Path | None
+) -> None:
+    """Drive robots through SOURCE (a scenario file, or every scenario of a run or suite directory).
+
+    Prints per scenario and controller the outcome, time, distance driven and closest approach,
+    then per controller the success rate and BARN's mean score. The robot is the spec's, or the
+    arena's default (BARN's Jackal limits in the arena's unit).
+    """
+    if not controllers:
+        raise MazeError("give at least one --controller NAME")
+    names = controller_names(controllers)
+    from mazegen.runtime.documents.driving import Floors, summaries
+    from mazegen.runtime.exporters.batch import scenario_files
+    from mazegen.runtime.runs.progress import QuietReporter, note_first_compile
+
+    resolved = _load_spec(spec)
+    files = scenario_files(source)
+    note_first_compile(QuietReporter(), kernels=DRIVE_KERNELS)  # on standard error, as every note
+    loaded, failed = _load_floors(files, resolved)
+    drives: list[list[Drive]] = []
+    floors_of: list[Floor] = []
+    for group_spec, floors in _by_spec(loaded).items():
+        batch = Floors.of(group_spec, [(floor.where, floor.document) for floor in floors])
+        for file in batch.without_path:
+            click.echo(no_path_line(file, batch), err=True)
+        drives += batch.drive(names)
+        floors_of += floors
+    if as_json:
+        for row in drives:
+            for result in row:
+                click.echo(json.dumps(result.record(), allow_nan=False))
+    elif drives:
+        unit = floors_of[0].spec.arena.unit if floors_of[0].spec else ""
+        click.echo(drive_table([result for row in drives for result in row], unit))
+        click.echo()
+        click.echo(summary_table(summaries(drives, names)))
+    if out is not None:
+        _write(floors_of, drives, {path: sub for path, sub in files}, out)
+    if failed:
+        raise SystemExit(1)
+
+
+def _load_spec(path: Path | None) -> Spec | None:
+    if path is None:
+        return None
+    from mazegen.dsl.loader import load_spec
+
+    return load_spec(path)
+
+
+def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[list[Floor], bool]:
+    """Each scenario file read, completed from its spec and checked against it; one that cannot be
+    is reported on one line and left out (a lone file's error ends the command)."""
+    from mazegen.runtime.exporters.floor import load_floor
+
+    floors, failed = [], False
+    for path, _ in files:
+        try:
+            floor = load_floor(path, spec)
+            floor.needs_spec("driving")
+            floor.population  # noqa: B018 - builds it, checking every element against the spec
+        except MazeError as error:
+            skip_file(error, alone=len(files) == 1)
+            failed = True
+            continue
+        floors.append(floor)
+    return floors, failed
+
+
+def _by_spec(floors: list[Floor]) -> dict[Spec, list[Floor]]:
+    """The floors grouped by their spec, in order: each group drives as one batch."""
+    groups: dict[Spec, list[Floor]] = {}
+    for floor in floors:
+        assert floor.spec is not None  # checked by _load_floors
+        groups.setdefault(floor.spec, []).append(floor)
+    return groups
+
+
+def no_path_line(file: str, floors: Floors) -> str:
+    """The line that says a floor is not driven."""
+    arena = floors.spec.arena
+    start, goal = (f"({x:g}, {y:g})" for x, y in (arena.start, arena.goal))
+    return (
+        f"{file}: no path for a robot of radius {arena.robot_radius:g} {arena.unit} from start {start} "
+        f"to goal {goal}: not driven"
+    )
+
+
+def drive_table(drives: Sequence[Drive], unit: str) -> str:
+    """One row per scenario and controller: outcome, time, distance, closest approach, BARN's score."""
+    from mazegen.cli.table import text_table
+
+    rows = [
+        {
+            "file": result.file,
+            "controller": result.controller,
+            "outcome": result.outcome,
+            "time": round(result.time, 2) if result.driven else None,
+            "distance": round(result.distance, 1) if result.driven else None,
+            "clearance": None if result.clearance is None else round(result.clearance, 1),
+            "score": round(result.score, 3) if result.driven else None,
+        }
+        for result in drives
+    ]
+    columns = [
+        ("file", "file"),
+        ("controller", "controller"),
+        ("outcome", "outcome"),
+        ("time", "time s"),
+        ("distance", f"distance {unit}".strip()),
+        ("clearance", f"closest {unit}".strip()),
+        ("score", "score"),
+    ]
+    return text_table(rows, columns)
+
+
+def summary_table(found: Sequence[Summary]) -> str:
+    """One row per controller: floors driven, arrivals, success rate and BARN's mean score."""
+    from mazegen.cli.table import text_table
+
+    rows = [
+        {
+            "controller": summary.controller,
+            "driven": summary.driven,
+            "arrived": summary.arrived,
+            "success": None if summary.success is None else round(summary.success, 3),
+            "mean_score": None if summary.mean_score is None else round(summary.mean_score, 3),
+        }
+        for summary in found
+    ]
+    columns = [
+        (key, key.replace("_", " ")) for key in ("controller", "driven", "arrived", "success", "mean_score")
+    ]
+    return text_table(rows, columns)
+
+
+def _write(floors: list[Floor], drives: list[list[Drive]], subfolders: dict[Path, Path], out: Path) -> None:
+    """Each driven document and its picture into ``out``, at the source's relative place, each
+    written whole or not at all."""
+    from mazegen.fileio import write_atomic
+    from mazegen.runtime.documents.driving import with_drives
+    from mazegen.runtime.documents.scenario import dumps
+    from mazegen.runtime.reports.render import render_file
+
+    for floor, row in zip(floors, drives):
+        target = out / subfolders[floor.source] / floor.source.name
+        document = with_drives(floor.document, row)
+        write_atomic(target, dumps(document))
+        render_file(document, target.with_suffix(".svg"))
+    click.echo(f"wrote {len(floors)} scenarios and their pictures to {out}", err=True)

@@ -1,0 +1,275 @@
+"""`mazegen drive` as a user runs it: outputs, JSON, the documents and pictures of -o, floors without a
+path reported before driving, unknown controllers and bad files.
+
+The simulator is replaced by :class:`tests.runtime.fake_drive.FakeDrive` (``straight`` collides,
+every other controller arrives), so these tests see what the command does with what a drive gives.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import shutil
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import jsonschema
+import pytest
+from click.testing import CliRunner
+
+import mazegen
+from mazegen.cli.main import main
+from mazegen.runtime.documents.scenario import read_document
+from mazegen.spec import robot_for
+from tests.conftest import EXAMPLES, ROOT
+from tests.runtime.fake_drive import fake_drive
+
+SCHEMA = jsonschema.Draft202012Validator(json.loads((ROOT / "docs" / "scenario.schema.json").read_text()))
+OPEN = [{"type": "router", "x": 700, "y": 300, "size": 30}]
+WALL = [{"type": "productionLine", "x": 700, "y": 525, "width": 1400, "depth": 80, "rotation": 0}]
+"""A production line across the whole floor: no path from start to goal."""
+
+
+def hand_floor(path: Path, elements: list[dict]) -> Path:
+    document = {"format": "mazegen-scenario", "version": 1, "scenario": "factory", "elements": elements}
+    path.write_text(json.dumps(document), encoding="utf-8")
+    return path
+
+
+@pytest.fixture
+def suite(tmp_path) -> Path:
+    """A suite-like folder of examples/factory.maze: its spec.json and three floors, the second walled."""
+    folder = tmp_path / "suite"
+    folder.mkdir()
+    (folder / "spec.json").write_text(mazegen.load(EXAMPLES / "factory.maze").to_json(), encoding="utf-8")
+    for number, elements in enumerate([OPEN, WALL, []], start=1):
+        hand_floor(folder / f"scenario-{number:02d}.json", elements)
+    return folder
+
+
+def invoke(*args: str):
+    return CliRunner().invoke(main, ["drive", *args], catch_exceptions=False)
+
+
+def test_each_scenario_and_controller_is_a_row_then_each_controller_is_summed_up(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    result = invoke(str(suite), "--controller", "straight", "-c", "dwa")
+    assert result.exit_code == 0, result.output
+    # one batch call per controller, over the floors with a path (the first and third)
+    assert [(name, indices) for name, indices, _ in fake.calls] == [("straight", [0, 2]), ("dwa", [0, 2])]
+    rows = [line.split() for line in result.stdout.splitlines()]
+    heading = rows[0]
+    assert heading[:4] == ["file", "controller", "outcome", "time"] and "closest" in heading
+    table = {(row[0].rsplit("/", 1)[-1], row[1]): row[2:] for row in rows[1:7]}
+    assert table[("scenario-01.json", "straight")][0] == "collision"
+    assert (
+        table[("scenario-01.json", "dwa")][:1] == ["arrived"]
+        and table[("scenario-01.json", "dwa")][-1] == "0.4"
+    )
+    assert table[("scenario-02.json", "dwa")] == ["no", "path"]  # nothing driven, no numbers
+    summary = {row[0]: row[1:] for row in rows[9:]}
+    assert rows[7] == [] and rows[8] == ["controller", "driven", "arrived", "success", "mean", "score"]
+    assert summary == {"straight": ["2", "0", "0", "0"], "dwa": ["2", "2", "1", "0.4"]}
+
+
+def test_a_floor_without_a_path_is_said_before_driving_and_not_driven(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    result = invoke(str(suite), "-c", "dwa")
+    lines = result.stderr.splitlines()
+    walled = str(suite / "scenario-02.json")
+    assert lines[0] == (
+        f"{walled}: no path for a robot of radius 25 cm from start (60, 60) to goal (1340, 990): not driven"
+    )
+    assert lines[1] == "driving dwa" and all(1 not in indices for _, indices, _ in fake.calls)
+
+
+def test_json_is_one_object_per_scenario_and_controller(suite, monkeypatch):
+    fake_drive(monkeypatch)
+    result = invoke(str(suite), "-c", "straight,dwa", "--json")
+    assert result.exit_code == 0
+    records = [json.loads(line) for line in result.stdout.splitlines()]
+    assert [(Path(r["file"]).name, r["controller"]) for r in records] == [
+        (f"scenario-0{n}.json", name) for n in (1, 2, 3) for name in ("straight", "dwa")
+    ]
+    crash, arrival, walled = records[0], records[1], records[2]
+    assert crash["outcome"] == "collision" and crash["collision"] == [1340.0, 990.0] and crash["score"] == 0
+    assert arrival["outcome"] == "arrived" and arrival["score"] == 0.4 and arrival["clearance"] == 12.3457
+    assert arrival["time"] == pytest.approx(2.5 * arrival["optimal_time"], abs=1e-3)
+    assert walled["outcome"] == "no path" and walled["optimal_time"] is None and "trajectory" not in walled
+
+
+def test_out_writes_driven_documents_and_pictures_that_the_reader_and_the_schema_accept(
+    suite, tmp_path, monkeypatch
+):
+    fake_drive(monkeypatch)
+    before = {path.name: path.read_bytes() for path in suite.iterdir()}
+    out = tmp_path / "driven"
+    result = invoke(str(suite), "-c", "straight", "-c", "dwa", "-o", str(out))
+    assert result.exit_code == 0, result.output
+    assert {path.name: path.read_bytes() for path in suite.iterdir()} == before  # inputs untouched
+    document = read_document(out / "scenario-01.json")
+    assert list(SCHEMA.iter_errors(document)) == []
+    straight, dwa = document["drive"]["straight"], document["drive"]["dwa"]
+    assert straight["outcome"] == "collision" and straight["collision"] == [1340.0, 990.0]
+    heading = round(math.degrees(math.atan2(990 - 60, 1340 - 60)), 4)  # degrees, as documents write angles
+    assert straight["trajectory"][0] == [60.0, 60.0, heading] and len(straight["trajectory"]) == 5
+    assert dwa["collision"] is None and dwa["outcome"] == "arrived"
+    walled = read_document(out / "scenario-02.json")["drive"]["dwa"]
+    assert walled["outcome"] == "no path" and walled["trajectory"] == []
+    svg = ET.parse(out / "scenario-01.svg").getroot()
+    assert len(svg.findall(".//{http://www.w3.org/2000/svg}polyline")) == 3  # the path and two drives
+
+
+def test_out_into_the_source_folder_adds_the_drive_in_place_and_keeps_earlier_drives(
+    factory_run, tmp_path, monkeypatch
+):
+    fake_drive(monkeypatch)
+    run = tmp_path / "run"
+    shutil.copytree(factory_run, run)
+    assert invoke(str(run), "-c", "straight", "-o", str(run)).exit_code == 0
+    assert invoke(str(run), "-c", "dwa", "-o", str(run)).exit_code == 0
+    for path in sorted(run.glob("run-*/best-*.json")):
+        original = read_document(factory_run / path.relative_to(run))
+        driven = read_document(path)
+        assert set(driven["drive"]) == {"straight", "dwa"}
+        assert {key: value for key, value in driven.items() if key != "drive"} == original
+        assert "straight: collision" in path.with_suffix(".svg").read_text()
+
+
+def test_the_robot_is_the_specs_when_it_has_one(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    robot = robot_for(spec.arena, max_speed=20.0)
+    (suite / "spec.json").write_text(dataclasses.replace(spec, robot=robot).to_json(), encoding="utf-8")
+    assert invoke(str(suite), "-c", "dwa").exit_code == 0
+    assert fake.calls[0][2] == robot
+    (suite / "spec.json").write_text(spec.to_json(), encoding="utf-8")
+    assert invoke(str(suite), "-c", "dwa").exit_code == 0
+    assert fake.calls[1][2] == robot_for(spec.arena)
+
+
+def test_an_unknown_controller_is_one_line_naming_the_known_ones_before_anything_is_read(
+    tmp_path, monkeypatch
+):
+    fake = fake_drive(monkeypatch)
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    result = invoke(str(bad), "-c", "dwa", "-c", "dwb")
+    assert result.exit_code == 2 and fake.calls == []
+    assert result.stderr.splitlines() == [
+        "unknown controller 'dwb': known are dwa, purepursuit, straight, vfh, or a user's policy as "
+        "package.module:name"
+    ]
+    for given in ([], ["-c", ","]):  # no controller at all: one line, exit status 1
+        result = invoke(str(bad), *given)
+        assert (
+            result.exit_code == 1 and len(result.stderr.splitlines()) == 1 and "--controller" in result.stderr
+        )
+
+
+def test_a_bad_file_is_one_line_and_skipped_and_the_others_are_driven_with_exit_status_1(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    (suite / "scenario-04.json").write_text('{"format": "mazegen-scenario", "version": 2}')
+    hand_floor(suite / "scenario-05.json", [{"type": "ruoter", "x": 1, "y": 1, "size": 3}])
+    result = invoke(str(suite), "-c", "dwa", "--json")
+    assert result.exit_code == 1
+    errors = [line for line in result.stderr.splitlines() if not line.startswith("driving")]
+    assert errors[:2] == [
+        f"{suite / 'scenario-04.json'}: unsupported scenario version 2 (this MazeGen reads 1)",
+        f"{suite / 'scenario-05.json'}: elements[0].type: 'ruoter' is not an element of scenario 'factory' "
+        "(cobot, router, vwall, hwall, productionLine)",
+    ]
+    assert errors[2].endswith(
+        "scenario-02.json: no path for a robot of radius 25 cm from start (60, 60) to goal "
+        "(1340, 990): not driven"
+    )
+    assert len(result.stdout.splitlines()) == 3 and fake.calls[0][1] == [0, 2]
+
+
+def test_a_lone_scenario_without_its_spec_says_to_give_one(tmp_path, monkeypatch):
+    fake_drive(monkeypatch)
+    floor = hand_floor(tmp_path / "floor.json", OPEN)
+    result = invoke(str(floor), "-c", "dwa")
+    assert result.exit_code == 1 and result.stderr.startswith(f"{floor}: ") and "--spec" in result.stderr
+    assert len(result.stderr.splitlines()) == 1
+    assert invoke(str(floor), "-c", "dwa", "--spec", str(EXAMPLES / "factory.maze")).exit_code == 0
+
+
+def test_the_simulator_drives_the_floors_end_to_end(suite, tmp_path):
+    """No fake: ``straight`` crosses an open floor and hits a production line across its way."""
+    across = {"type": "productionLine", "x": 700, "y": 525, "width": 300, "depth": 80, "rotation": 36}
+    hand_floor(suite / "scenario-03.json", [across])  # on the straight line from start to goal
+    out = tmp_path / "driven"
+    result = invoke(str(suite), "-c", "straight", "--json", "-o", str(out))
+    assert result.exit_code == 0, result.output
+    records = {Path(r["file"]).name: r for r in map(json.loads, result.stdout.splitlines())}
+    assert [records[f"scenario-0{n}.json"]["outcome"] for n in (1, 2, 3)] == [
+        "arrived",
+        "no path",
+        "collision",
+    ]
+    arrived, crashed = records["scenario-01.json"], records["scenario-03.json"]
+    assert arrived["score"] == 0.5 and arrived["collision"] is None and arrived["clearance"] > 0
+    assert crashed["score"] == 0 and crashed["clearance"] == 0 and crashed["distance"] < arrived["distance"]
+    document = read_document(out / "scenario-03.json")
+    assert list(SCHEMA.iter_errors(document)) == []
+    trajectory = document["drive"]["straight"]["trajectory"]
+    assert trajectory[0][:2] == [60.0, 60.0] and math.dist(trajectory[-1][:2], crashed["collision"]) < 50
+
+
+def test_score_prints_the_drive_of_each_controller_asked_for(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    spec, floor = str(EXAMPLES / "factory.maze"), str(suite / "scenario-01.json")
+    result = CliRunner().invoke(main, ["score", spec, floor, "-c", "straight,dwa"], catch_exceptions=False)
+    assert result.exit_code == 0, result.output
+    lines = result.stdout.splitlines()
+    assert lines[-2].startswith("drive straight\tcollision, ") and lines[-2].endswith("score 0")
+    assert lines[-1].startswith("drive dwa\tarrived, ") and "closest 12.3 cm" in lines[-1]
+    walled = str(suite / "scenario-02.json")
+    result = CliRunner().invoke(
+        main, ["score", spec, floor, walled, "-c", "dwa", "--json"], catch_exceptions=False
+    )
+    records = [json.loads(line) for line in result.stdout.splitlines()]
+    assert [r["drive"]["dwa"]["outcome"] for r in records] == ["arrived", "no path"]
+    assert "trajectory" not in records[0]["drive"]["dwa"]
+    table = (
+        CliRunner().invoke(main, ["score", spec, floor, walled, "-c", "dwa"], catch_exceptions=False).stdout
+    )
+    assert table.splitlines()[0].endswith("drive dwa") and table.splitlines()[2].endswith("no path")
+    calls = len(fake.calls)
+    plain = CliRunner().invoke(main, ["score", spec, floor], catch_exceptions=False)
+    assert "drive" not in plain.stdout and len(fake.calls) == calls  # the factory spec names no controller
+
+
+def test_score_drives_the_controllers_the_spec_names_by_default():
+    from mazegen.runtime.documents.driving import spec_controllers
+    from mazegen.spec import ControllerSpec, FitnessTerm
+
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    assert spec_controllers(spec) == []
+    robot = robot_for(spec.arena, controllers=(ControllerSpec("purepursuit", (("lookahead", 50.0),)),))
+    terms = (FitnessTerm("drive", metric="disagree", controllers=("dwa", "purepursuit")),)
+    named = dataclasses.replace(spec, robot=robot, fitness=spec.fitness + terms)
+    assert spec_controllers(named) == ["purepursuit", "dwa"]
+
+
+def test_score_refuses_an_unknown_controller_in_one_line(suite):
+    spec, floor = str(EXAMPLES / "factory.maze"), str(suite / "scenario-01.json")
+    result = CliRunner().invoke(main, ["score", spec, floor, "-c", "nope"], catch_exceptions=False)
+    assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1 and "'nope'" in result.stderr
+
+
+def test_a_first_drive_says_it_compiles_and_names_kernels_a_drive_compiles(suite, monkeypatch):
+    import numba
+
+    import mazegen.runtime
+    from mazegen.cli.drive import DRIVE_KERNELS
+
+    asked = []
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): asked.append(kernels) or False)
+    result = invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")
+    assert result.exit_code == 0 and asked == [DRIVE_KERNELS]
+    assert result.stderr.splitlines()[0].startswith("compiling MazeGen's kernels")
+    folder = Path(numba.config.CACHE_DIR)  # the real drive above has filled it
+    assert all(any(folder.rglob(f"{kernel}-*.nbi")) for kernel in DRIVE_KERNELS)
