@@ -20,7 +20,7 @@ FORMAT_NAMES = ("ros", "gazebo", "irsim", "movingai", "json", "svg", "png")
     "fmt",
     required=True,
     type=click.Choice(FORMAT_NAMES),
-    help="ros: PGM + YAML map; gazebo: SDF world; irsim: IR-SIM world YAML; movingai: .map + .scen; json; svg; png.",
+    help="ros: PGM + YAML map; gazebo: SDF world; irsim: IR-SIM YAML; movingai: .map, .scen; json; svg; png.",
 )
 @click.option(
     "-o",

@@ -58,7 +58,7 @@ def safe_name(text: str) -> str:
 
 
 _RIGHT_ANGLE = 1e-3
-"""Largest |cos| between neighbouring edges of a part taken as a rectangle (rounded vertices are not exact)."""
+"""Largest |cos| between neighbouring edges of a rectangular part (rounded vertices are not exact)."""
 
 
 def yaml_number(value: float) -> str:
