@@ -79,12 +79,13 @@ BUNDLED: dict[str, BundledController] = {
         summary="regulated pure pursuit along the path MazeGen finds",
         source="nav2's regulated pure pursuit controller",
         parameters=(
-            Parameter("lookahead", 0.6, LENGTH, "lookahead distance at the desired speed", 0.0),
+            Parameter("lookahead", 0.6, LENGTH, "fixed lookahead distance, when lookahead_time is 0", 0.0),
             Parameter("min_lookahead", 0.3, LENGTH, "shortest lookahead", 0.0),
             Parameter("max_lookahead", 0.9, LENGTH, "longest lookahead", 0.0),
-            Parameter("lookahead_time", 1.5, TIME, "lookahead = speed × this, clamped", 0.0, 60.0),
+            Parameter("lookahead_time", 1.5, TIME, "lookahead = speed × this, clamped (0: fixed)", 0.0, 60.0),
             Parameter("min_radius", 0.9, LENGTH, "turns tighter than this radius slow the robot", 0.0),
             Parameter("rotate_to_heading", 0.785, ANGLE, "heading error to turn on the spot at", 0.0, 3.15),
+            Parameter("regulated_min_speed", 0.25, SPEED, "slowest speed the turn regulation slows to", 0.0),
         ),
     ),
     "vfh": BundledController(

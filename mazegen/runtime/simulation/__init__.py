@@ -13,15 +13,33 @@ if TYPE_CHECKING:
     from mazegen.runtime.simulation._episodes import (
         ARRIVED,
         COLLISION,
+        NO_PATH,
         OUTCOMES,
         TIMEOUT,
         Episodes,
         barn_score,
     )
 
-__all__ = ["ARRIVED", "COLLISION", "OUTCOMES", "TIMEOUT", "Episodes", "barn_score"]
+    from mazegen.runtime.simulation._drive import drive
+    from mazegen.runtime.simulation._policy import Observations
+
+__all__ = [
+    "ARRIVED",
+    "COLLISION",
+    "NO_PATH",
+    "OUTCOMES",
+    "TIMEOUT",
+    "Episodes",
+    "Observations",
+    "barn_score",
+    "drive",
+]
 
 __getattr__ = lazy_names(
     __name__,
-    {"_episodes": ["ARRIVED", "COLLISION", "OUTCOMES", "TIMEOUT", "Episodes", "barn_score"]},
+    {
+        "_episodes": ["ARRIVED", "COLLISION", "NO_PATH", "OUTCOMES", "TIMEOUT", "Episodes", "barn_score"],
+        "_drive": ["drive"],
+        "_policy": ["Observations"],
+    },
 )

@@ -6,10 +6,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-ARRIVED, COLLISION, TIMEOUT = 0, 1, 2
-OUTCOMES = ("arrived", "collision", "timeout")
-"""Outcome names by code: within the goal tolerance, touched an obstacle or the arena wall, or out
-of time (including an early stop for lack of progress)."""
+ARRIVED, COLLISION, TIMEOUT, NO_PATH = 0, 1, 2, 3
+OUTCOMES = ("arrived", "collision", "timeout", "no path")
+"""Outcome names by code: within the goal tolerance, touched an obstacle or the arena wall, out
+of time (including an early stop for lack of progress), or not driven because MazeGen finds no
+path from start to goal on the floor (its optimal time is NaN)."""
 
 
 @dataclass(frozen=True)
@@ -50,7 +51,7 @@ class Episodes:
 
     @property
     def failed(self) -> np.ndarray:
-        """``bool[N]``: collided or timed out."""
+        """``bool[N]``: collided, timed out or had no path."""
         return self.outcome != ARRIVED
 
     @property

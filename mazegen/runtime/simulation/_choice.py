@@ -1,0 +1,122 @@
+"""Which controller drives: a bundled one with its parameters, or a user's policy.
+
+A controller is named by a bundled name (:data:`mazegen.controllers.BUNDLED`), by a dotted path
+``package.module:name`` to a user's policy, or by a name an installed package registers under
+the ``mazegen.controllers`` entry point group; or it is given as a policy object directly. A
+bundled controller's parameters are its defaults (SI, lengths scaled to the arena's unit by
+:func:`mazegen.spec.metres_per_unit`) overridden by the spec's, which are in arena units.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.metadata
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from mazegen.controllers import BUNDLED
+from mazegen.errors import MazeError
+from mazegen.runtime.simulation._loop import CODES
+from mazegen.spec import Arena, ControllerSpec, Robot, metres_per_unit
+
+ENTRY_POINTS = "mazegen.controllers"
+"""The entry point group under which packages register controllers."""
+
+PATHS = frozenset({"purepursuit"})
+"""Bundled controllers that follow MazeGen's path."""
+
+
+@dataclass(frozen=True)
+class Choice:
+    """A resolved controller.
+
+    Attributes:
+        name: What the episodes are labelled with.
+        code: The bundled controller's code in the episode loop, -1 for a user's policy.
+        params: ``float64[:]`` the bundled controller's parameters, in arena units.
+        lidar: Whether it reads the lidar.
+        path: Whether it follows MazeGen's path.
+        policy: The user's batch policy, or None.
+    """
+
+    name: str
+    code: int
+    params: np.ndarray
+    lidar: bool
+    path: bool
+    policy: Callable[[Any], Any] | None = None
+
+
+def choose(controller: str | ControllerSpec | Callable[[Any], Any], robot: Robot, arena: Arena) -> Choice:
+    """Resolve ``controller`` (a name, a spec's settings, or a policy object) for ``robot`` on ``arena``."""
+    if isinstance(controller, ControllerSpec):
+        name, overrides = controller.name, controller.params
+    elif isinstance(controller, str):
+        name, overrides = controller, robot.controller(controller).params
+    elif callable(controller):
+        label = getattr(controller, "__name__", type(controller).__name__)
+        return Choice(label, -1, np.zeros(0), True, False, controller)
+    else:
+        raise MazeError(f"a controller is a name or a policy, got {type(controller).__name__}")
+    if name in BUNDLED:
+        if name not in CODES:
+            raise MazeError(f"controller {name} is not in this build of the simulator")
+        return Choice(
+            name, CODES[name], bundled_params(name, overrides, arena), BUNDLED[name].lidar, name in PATHS
+        )
+    if overrides:
+        raise MazeError(f"controller {name} is a user's policy: it takes no parameters from the spec")
+    return Choice(name, -1, np.zeros(0), True, False, load_policy(name))
+
+
+def bundled_params(name: str, overrides: tuple[tuple[str, float], ...], arena: Arena) -> np.ndarray:
+    """Bundled controller ``name``'s parameters in its table's order, lengths in arena units."""
+    entry = BUNDLED[name]
+    units = 1.0 / metres_per_unit(arena)
+    values = {p.name: p.default * (units if p.scaled else 1.0) for p in entry.parameters}
+    for key, value in overrides:
+        parameter = entry.parameter(key)
+        if parameter is None:
+            known = ", ".join(p.name for p in entry.parameters)
+            raise MazeError(f"controller {name} has no parameter {key!r} (it has {known})")
+        si = value / units if parameter.scaled else value
+        if not parameter.low <= si <= parameter.high:
+            raise MazeError(
+                f"controller {name}'s {key} must be within [{parameter.low:g}, {parameter.high:g}] "
+                f"{parameter.unit or ''}, got {si:g}".replace("  ", " ")
+            )
+        values[key] = float(value)
+    return np.array([values[p.name] for p in entry.parameters], np.float64)
+
+
+def load_policy(name: str) -> Callable[[Any], Any]:
+    """The policy called ``name``: a dotted path ``package.module:attribute``, or a name an installed
+    package registers under the ``mazegen.controllers`` entry point group."""
+    if ":" in name:
+        module_name, _, attribute = name.partition(":")
+        try:
+            found: Any = importlib.import_module(module_name)
+            for part in attribute.split("."):
+                found = getattr(found, part)
+        except (ImportError, AttributeError) as error:
+            raise MazeError(f"controller {name}: cannot load it ({error})") from error
+    else:
+        points = [p for p in importlib.metadata.entry_points(group=ENTRY_POINTS) if p.name == name]
+        if not points:
+            known = ", ".join(sorted(BUNDLED))
+            raise MazeError(
+                f"unknown controller {name!r}: not bundled ({known}), not a dotted path "
+                f"package.module:name, and no installed package registers it under {ENTRY_POINTS}"
+            )
+        try:
+            found = points[0].load()
+        except Exception as error:  # a broken package: its own error, said in one line
+            raise MazeError(
+                f"controller {name}: its entry point {points[0].value} fails to load ({error})"
+            ) from error
+    if not callable(found):
+        raise MazeError(f"controller {name} is not callable: a policy is called with the observations")
+    return found

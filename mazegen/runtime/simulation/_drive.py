@@ -1,0 +1,167 @@
+"""Drive a controller over floors of a population: one robot per floor, one :class:`Episodes`.
+
+:func:`drive` gathers what the kernels read (the floors' parts, MazeGen's paths and optimal
+times, the robot's limits, the controller's parameters), puts every robot at its start, runs the
+episodes (the compiled loop for a bundled controller, a step kernel between calls of a user's
+policy otherwise) and returns the outcomes. Floors MazeGen finds no path on are not driven.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numba
+import numpy as np
+
+from mazegen.errors import MazeError
+from mazegen.runtime.engine.population import Population
+from mazegen.runtime.simulation._choice import Choice, choose
+from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
+from mazegen.runtime.simulation._lidar import beam_angles
+from mazegen.runtime.simulation._loop import begin_all, run_all
+from mazegen.runtime.simulation._paths import FloorPaths, floor_paths
+from mazegen.runtime.simulation._policy import run_policy
+from mazegen.runtime.simulation._step import CLEARANCE, CX, CY, DISTANCE, new_state
+from mazegen.runtime.simulation._world import World, world_of
+from mazegen.spec import ControllerSpec, Robot
+
+
+def drive(
+    population: Population,
+    *,
+    robot: Robot,
+    controller: str | ControllerSpec | Callable[[Any], Any],
+    indices: np.ndarray | None = None,
+    starts: np.ndarray | None = None,
+    record: bool = False,
+    seed: int = 0,
+) -> Episodes:
+    """Drive ``controller`` over the floors ``indices`` of ``population`` (default: every valid one).
+
+    Args:
+        population: The floors.
+        robot: The robot's limits, lidar and timeouts (:func:`mazegen.spec.robot_for`).
+        controller: A bundled controller's name, a spec's :class:`ControllerSpec`, a dotted path
+            ``package.module:name`` or entry point name of a user's policy, or the policy itself.
+        indices: Which individuals to drive, in this order.
+        starts: ``float64[M, 3]`` start pose ``(x, y, theta)`` per driven floor; default the arena's
+            start, heading toward the goal.
+        record: Keep every pose (:attr:`Episodes.trajectory`).
+        seed: Passed to nothing random yet: the simulation and the bundled controllers are
+            deterministic; kept so that seeded controllers and perturbed starts share one API.
+
+    Raises:
+        MazeError: an unknown controller or parameter, or a user's policy that fails.
+    """
+    del seed  # deterministic: nothing is drawn
+    arena = population.arena
+    choice = choose(controller, robot, arena)
+    rows = np.flatnonzero(population.valid) if indices is None else np.asarray(indices, np.int64).reshape(-1)
+    m = len(rows)
+    if m and (rows.min() < 0 or rows.max() >= population.size):
+        raise MazeError(f"indices must lie in [0, {population.size}), got {rows.min()}..{rows.max()}")
+    poses = _starts(population, m, starts)
+    world = world_of(population, rows)
+    paths = floor_paths(population, rows, corners=choice.path)
+    optimal = paths.length / robot.max_speed
+    max_steps = np.where(
+        np.isnan(optimal), 0, np.ceil(robot.timeout * np.nan_to_num(optimal) / robot.step - 1e-9)
+    )
+    state, outcome, steps, progress, stuck = new_state(m)
+    outcome[np.isnan(optimal)] = NO_PATH
+    limits = np.array(
+        [
+            robot.max_speed,
+            robot.min_speed,
+            robot.max_turn,
+            robot.accel,
+            robot.turn_accel,
+            robot.step,
+            arena.robot_radius,
+            robot.goal_tolerance,
+        ],
+        np.float64,
+    )
+    goal = np.array(arena.goal, np.float64)
+    angles = beam_angles(robot.beams, robot.fov) if choice.lidar else np.zeros(0)
+    stuck_steps = max(1, math.ceil(robot.stuck / robot.step - 1e-9))
+    run = _Run(limits, goal, world, paths, angles, robot.lidar_range, max_steps.astype(np.int32), stuck_steps)
+    trajectory = np.full((m if record else 0, int(max_steps.max(initial=0)) + 1, 3), np.nan)
+    if m:
+        begin_all(poses, limits, goal, world.arrays, state, outcome)
+        arrays = (state, outcome, steps, progress, stuck, trajectory)
+        if choice.policy is None:
+            _run_bundled(choice, run, *arrays)
+        else:
+            run_policy(choice.name, choice.policy, run, rows, *arrays)
+    driven = outcome != NO_PATH
+    return Episodes(
+        controller=choice.name,
+        outcome=outcome,
+        time=steps * robot.step,
+        distance=np.where(driven, state[:, DISTANCE], 0.0),
+        clearance=np.where(driven, state[:, CLEARANCE], np.nan),
+        optimal_time=optimal,
+        steps=steps,
+        collision=np.where((outcome == COLLISION)[:, None], state[:, [CX, CY]], np.nan),
+        stuck=stuck,
+        trajectory=trajectory if record else None,
+    )
+
+
+class _Run:
+    """What every episode of one drive reads: limits, goal, floors, paths, lidar, step limits."""
+
+    def __init__(
+        self,
+        limits: np.ndarray,
+        goal: np.ndarray,
+        world: World,
+        paths: FloorPaths,
+        angles: np.ndarray,
+        reach: float,
+        max_steps: np.ndarray,
+        stuck_steps: int,
+    ) -> None:
+        self.limits, self.goal, self.world, self.paths = limits, goal, world, paths
+        self.angles, self.reach, self.max_steps, self.stuck_steps = angles, reach, max_steps, stuck_steps
+
+
+_NO_FIELDS = (np.full((1, 1, 1), np.inf, np.float32), np.zeros((1, 1, 1), np.float32), np.zeros(5))
+"""The fields of controllers that read none: one 1×1 dummy shared by every floor."""
+
+
+def _run_bundled(choice: Choice, run: _Run, *arrays: np.ndarray) -> None:
+    blocks = min(len(arrays[0]), 32 * numba.get_num_threads())
+    with numba.parallel_chunksize(1):  # episodes differ in length: hand out blocks one at a time
+        run_all(
+            choice.code,
+            choice.params,
+            run.limits,
+            run.goal,
+            run.world.arrays,
+            run.paths.corners,
+            run.paths.count,
+            _NO_FIELDS,
+            run.angles,
+            run.reach,
+            run.max_steps,
+            run.stuck_steps,
+            blocks,
+            *arrays,
+        )
+
+
+def _starts(population: Population, m: int, starts: np.ndarray | None) -> np.ndarray:
+    arena = population.arena
+    if starts is None:
+        (sx, sy), (gx, gy) = arena.start, arena.goal
+        return np.tile(np.array([sx, sy, math.atan2(gy - sy, gx - sx)]), (m, 1))
+    poses = np.ascontiguousarray(starts, np.float64)
+    if poses.shape != (m, 3) or not np.isfinite(poses).all():
+        raise MazeError(
+            f"starts must be {m} finite (x, y, theta) rows, one per driven floor, got shape {poses.shape}"
+        )
+    return poses

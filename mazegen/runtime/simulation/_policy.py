@@ -1,0 +1,169 @@
+"""A user's batch policy in the loop: one Python call per step for every robot still driving.
+
+Between calls, two compiled kernels run over the active robots: one gathers the
+:class:`Observations` (lidar, goal in the robot frame, velocity), the other applies the returned
+actions through the same step as the bundled controllers
+(:func:`mazegen.runtime.simulation._step.advance`). A policy that raises, returns the wrong shape
+or a non-finite action ends the drive with one line naming the controller, the step and the floor.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numba import njit, prange
+
+from mazegen.errors import MazeError
+from mazegen.runtime.simulation._lidar import scan
+from mazegen.runtime.simulation._step import ACTIVE, THETA, V, W, X, Y, advance
+
+if TYPE_CHECKING:
+    from mazegen.runtime.simulation._drive import _Run
+
+
+@dataclass(frozen=True)
+class Observations:
+    """What a batch policy sees at one step, one row per robot still driving (``n`` of them).
+
+    Attributes:
+        scan: ``float64[n, beams]`` lidar ranges (arena units), each at most the lidar's range.
+        angles: ``float64[beams]`` the beams' angles relative to the heading (radians).
+        goal: ``float64[n, 3]`` the goal in the robot's frame: distance, and the cosine and sine of
+            its bearing (0 straight ahead, positive to the left).
+        velocity: ``float64[n, 2]`` the current speed and turn rate ``(v, w)``.
+        step: Steps driven so far (0 at the first call); every robot shown has driven as many.
+        floor: ``int64[n]`` the population indices of the floors the robots drive on.
+        limits: ``float64[8]`` the robot's max_speed, min_speed, max_turn, accel, turn_accel, step,
+            radius and goal_tolerance (arena units, seconds, radians).
+    """
+
+    scan: np.ndarray
+    angles: np.ndarray
+    goal: np.ndarray
+    velocity: np.ndarray
+    step: int
+    floor: np.ndarray
+    limits: np.ndarray
+
+
+def run_policy(
+    name: str,
+    policy: Callable[[Observations], Any],
+    run: _Run,
+    rows: np.ndarray,
+    state: np.ndarray,
+    outcome: np.ndarray,
+    steps: np.ndarray,
+    progress: np.ndarray,
+    stuck: np.ndarray,
+    trajectory: np.ndarray,
+) -> None:
+    """Drive every active robot to the end of its episode with ``policy``, one call per step."""
+    world = run.world.arrays
+    most = int(np.diff(world[0]).max(initial=0))
+    active = np.flatnonzero(outcome == ACTIVE)
+    _record(active, 0, state, trajectory)
+    step = 0
+    while active.size:
+        observations = _observe(run, rows, active, state, step, most)
+        actions = _actions(name, policy, observations, step)
+        _apply(
+            active,
+            actions,
+            run.limits,
+            run.goal,
+            world,
+            run.max_steps,
+            run.stuck_steps,
+            state,
+            outcome,
+            steps,
+            progress,
+            stuck,
+        )
+        step += 1
+        _record(active, step, state, trajectory)
+        active = active[outcome[active] == ACTIVE]
+
+
+def _observe(
+    run: _Run, rows: np.ndarray, active: np.ndarray, state: np.ndarray, step: int, most: int
+) -> Observations:
+    n = active.size
+    ranges = np.empty((n, run.angles.size))
+    goal = np.empty((n, 3))
+    _observe_kernel(active, state, run.goal, run.angles, run.reach, run.world.arrays, most, ranges, goal)
+    velocity = state[active][:, [V, W]]
+    return Observations(ranges, run.angles, goal, velocity, step, rows[active], run.limits)
+
+
+def _actions(
+    name: str, policy: Callable[[Observations], Any], observations: Observations, step: int
+) -> np.ndarray:
+    n = observations.floor.size
+    where = f"controller {name} at step {step}"
+    try:
+        actions = np.asarray(policy(observations), np.float64)
+    except Exception as error:  # the user's code: any failure is theirs, said in one line
+        floors = observations.floor
+        raise MazeError(
+            f"{where} (floors {floors[0]}{'...' if n > 1 else ''}, {n} driving) raised "
+            f"{type(error).__name__}: {error}"
+        ) from error
+    if actions.shape != (n, 2):
+        raise MazeError(
+            f"{where} on floor {observations.floor[0]}: returned actions of shape {actions.shape}, "
+            f"expected ({n}, 2): one (v, w) per robot"
+        )
+    bad = np.flatnonzero(~np.isfinite(actions).all(axis=1))
+    if bad.size:
+        raise MazeError(
+            f"{where} on floor {observations.floor[bad[0]]}: returned a non-finite action {actions[bad[0]]}"
+        )
+    return np.ascontiguousarray(actions)
+
+
+def _record(active: np.ndarray, step: int, state: np.ndarray, trajectory: np.ndarray) -> None:
+    if trajectory.shape[0] and active.size:
+        trajectory[active, step] = state[active][:, [X, Y, THETA]]
+
+
+@njit(cache=True, parallel=True)
+def _observe_kernel(active, state, goal, angles, reach, world, most, ranges, to_goal):  # pragma: no cover
+    for j in prange(active.shape[0]):
+        m = active[j]
+        x, y, theta = state[m, X], state[m, Y], state[m, THETA]
+        if angles.shape[0]:
+            near = np.empty(most, np.int64)
+            scan(x, y, theta, angles, reach, m, world, near, ranges[j])
+        dx, dy = goal[0] - x, goal[1] - y
+        bearing = math.atan2(dy, dx) - theta
+        to_goal[j, 0] = math.hypot(dx, dy)
+        to_goal[j, 1] = math.cos(bearing)
+        to_goal[j, 2] = math.sin(bearing)
+
+
+@njit(cache=True, parallel=True)
+def _apply(
+    active, actions, limits, goal, world, max_steps, stuck_steps, state, outcome, steps, progress, stuck
+):  # pragma: no cover
+    for j in prange(active.shape[0]):
+        advance(
+            active[j],
+            actions[j, 0],
+            actions[j, 1],
+            limits,
+            goal,
+            world,
+            max_steps,
+            stuck_steps,
+            state,
+            outcome,
+            steps,
+            progress,
+            stuck,
+        )

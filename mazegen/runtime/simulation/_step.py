@@ -1,0 +1,142 @@
+"""One robot's episode, step by step: the kinematics, the collision verdict and how episodes end.
+
+A robot's state is a row of ``state`` (columns :data:`X` … :data:`CY`) plus its outcome, step
+count, the step of its last progress toward the goal and whether it ended stuck. Each step:
+
+1. The command ``(v, w)`` is clamped to the acceleration window around the current velocity
+   (``accel · step``, ``turn_accel · step``), then to ``[min_speed, max_speed]`` and
+   ``[-max_turn, max_turn]``.
+2. Forward Euler, as IR-SIM: ``x += v cos(theta) dt; y += v sin(theta) dt; theta += w dt``.
+3. The swept disc is checked exactly (:func:`mazegen.runtime.simulation._collide.sweep`). A lower
+   bound of the centre's distance to every obstacle (``SAFE``: the last distance computed, less
+   the length driven since) skips the check when no contact is possible; the verdict is exact
+   either way.
+4. The episode ends: **arrived** when the segment comes within ``goal_tolerance`` of the goal
+   (before any contact); **collision** at the first contact, the robot left at the start of the
+   step's segment and the contact centre kept; **timeout** after ``max_steps`` steps or, stuck,
+   after ``stuck_steps`` steps without a new best distance to the goal.
+
+The clearance (closest approach of the robot's edge) is taken at every pose, computed exactly
+whenever the lower bound cannot rule out a new minimum.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mazegen.runtime.simulation._collide import NO_HIT, disc_entry, distance, sweep
+from mazegen.runtime.simulation._controllers import (
+    ACCEL,
+    GOAL_TOLERANCE,
+    MAX_SPEED,
+    MAX_TURN,
+    MIN_SPEED,
+    RADIUS,
+    STEP,
+    TURN_ACCEL,
+)
+from mazegen.runtime.simulation._episodes import ARRIVED, COLLISION, TIMEOUT
+
+ACTIVE = -1
+"""The outcome of an episode still running."""
+
+X, Y, THETA, V, W, DISTANCE, CLEARANCE, SAFE, BEST, CX, CY = range(11)
+"""Columns of the state: pose, velocity, distance driven, closest approach so far, the lower bound
+of the distance to obstacles, best distance to the goal so far, contact centre."""
+COLUMNS = 11
+
+
+def new_state(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(state, outcome, steps, progress, stuck)`` of ``m`` robots, none started."""
+    state = np.full((m, COLUMNS), np.nan)
+    return (
+        state,
+        np.full(m, ACTIVE, np.int8),
+        np.zeros(m, np.int32),
+        np.zeros(m, np.int32),
+        np.zeros(m, np.bool_),
+    )
+
+
+@njit(cache=True)
+def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no cover - compiled
+    """Put robot ``m`` at its start, at rest; a start touching an obstacle is a collision and a
+    start within the goal tolerance an arrival, both after 0 steps."""
+    state[m, X], state[m, Y], state[m, THETA] = x, y, theta
+    state[m, V] = state[m, W] = state[m, DISTANCE] = 0.0
+    d = distance(x, y, m, world)
+    state[m, SAFE] = d
+    state[m, CLEARANCE] = max(d - limits[RADIUS], 0.0)
+    state[m, BEST] = math.hypot(goal[0] - x, goal[1] - y)
+    if d <= limits[RADIUS]:
+        outcome[m] = COLLISION
+        state[m, CX], state[m, CY] = x, y
+    elif state[m, BEST] <= limits[GOAL_TOLERANCE]:
+        outcome[m] = ARRIVED
+
+
+@njit(cache=True, inline="always")
+def _window(command, current, change, low, high):  # pragma: no cover - compiled
+    return min(max(min(max(command, current - change), current + change), low), high)
+
+
+@njit(cache=True)
+def advance(
+    m,
+    command_v,
+    command_w,
+    limits,
+    goal,
+    world,
+    max_steps,
+    stuck_steps,
+    state,
+    outcome,
+    steps,
+    progress,
+    stuck,
+):  # pragma: no cover
+    """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring."""
+    dt = limits[STEP]
+    r = limits[RADIUS]
+    v = _window(command_v, state[m, V], limits[ACCEL] * dt, limits[MIN_SPEED], limits[MAX_SPEED])
+    w = _window(command_w, state[m, W], limits[TURN_ACCEL] * dt, -limits[MAX_TURN], limits[MAX_TURN])
+    x0, y0, theta = state[m, X], state[m, Y], state[m, THETA]
+    dx = v * math.cos(theta) * dt
+    dy = v * math.sin(theta) * dt
+    x1, y1 = x0 + dx, y0 + dy
+    length = abs(v) * dt
+    safe = state[m, SAFE] - length  # no point of the segment is nearer an obstacle than this
+    hit = NO_HIT if safe > r else sweep(x0, y0, x1, y1, r, m, world)
+    reach = disc_entry(x0, y0, dx, dy, goal[0], goal[1], limits[GOAL_TOLERANCE])
+    steps[m] += 1
+    state[m, V], state[m, W] = v, w
+    if hit <= 1.0 and hit < reach:
+        outcome[m] = COLLISION
+        state[m, CX], state[m, CY] = x0 + hit * dx, y0 + hit * dy
+        state[m, DISTANCE] += hit * length
+        state[m, CLEARANCE] = 0.0
+        return
+    state[m, X], state[m, Y], state[m, THETA] = x1, y1, theta + w * dt
+    state[m, DISTANCE] += length
+    if safe - r >= state[m, CLEARANCE] and safe > r:
+        state[m, SAFE] = safe  # this pose can set no new closest approach
+    else:
+        d = distance(x1, y1, m, world)
+        state[m, SAFE] = d
+        state[m, CLEARANCE] = min(state[m, CLEARANCE], max(d - r, 0.0))
+    if reach <= 1.0:
+        outcome[m] = ARRIVED
+        return
+    to_goal = math.hypot(goal[0] - x1, goal[1] - y1)
+    if to_goal < state[m, BEST]:
+        state[m, BEST] = to_goal
+        progress[m] = steps[m]
+    if steps[m] >= max_steps[m]:
+        outcome[m] = TIMEOUT
+    elif steps[m] - progress[m] >= stuck_steps:
+        outcome[m] = TIMEOUT
+        stuck[m] = True
