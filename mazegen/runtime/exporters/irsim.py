@@ -24,6 +24,9 @@ from mazegen.runtime.exporters.floor import ExportOptions, Floor, rectangle_of, 
 from mazegen.runtime.exporters.gazebo import WALL_THICKNESS
 from mazegen.spec import Arena, Robot, robot_for
 
+FULL_TURN = 2 * math.pi - 1e-12
+"""A field of view this wide is a full turn (as the simulator's lidar takes it)."""
+
 
 def _flow(values: Sequence[float]) -> str:
     """``[1.5, 0.0, 2.0]``: a YAML flow sequence of numbers."""
@@ -66,17 +69,30 @@ def start_pose(arena: dict[str, Any]) -> tuple[float, float, float]:
     return float(sx), float(sy), math.atan2(float(gy) - float(sy), float(gx) - float(sx))
 
 
+def _beams(beams: int, fov: float) -> str:
+    """IR-SIM lidar keys that cast the beams of MazeGen's simulator, in the same directions.
+
+    IR-SIM spreads ``number`` beams from edge to edge of ``angle_range``, as MazeGen does for a
+    field of view under a full turn; a full turn MazeGen starts behind the robot and does not
+    repeat, so its range is one spacing short and the sensor is turned back by half a spacing.
+    """
+    if fov < FULL_TURN:
+        return f"angle_range: {yaml_number(fov)}, number: {beams}"
+    spacing = 2 * math.pi / beams
+    return (
+        f"angle_range: {yaml_number(2 * math.pi - spacing)}, number: {beams}, "
+        f"offset: {_flow((0.0, 0.0, -spacing / 2))}"
+    )
+
+
 def _robot(floor: Floor, metres: float) -> list[str]:
     robot = floor_robot(floor)
     arena = floor.arena
     x, y, heading = start_pose(arena)
     gx, gy = (float(v) * metres for v in arena["goal"])
-    # IR-SIM spreads ``number`` beams over ``angle_range`` from edge to edge; MazeGen spreads them
-    # ``fov / beams`` apart centred on the heading, so the range is one spacing short of the fov.
-    spread = robot.fov * (robot.beams - 1) / robot.beams
     lidar = (
         f"{{type: lidar2d, range_min: 0.0, range_max: {yaml_number(robot.lidar_range * metres)}, "
-        f"angle_range: {yaml_number(spread)}, number: {robot.beams}}}"
+        f"{_beams(robot.beams, robot.fov)}}}"
     )
     return [
         "robot:",

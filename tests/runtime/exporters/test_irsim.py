@@ -19,6 +19,7 @@ from mazegen.errors import MazeError
 from mazegen.runtime.exporters import check_options
 from mazegen.runtime.exporters.floor import ExportOptions, Floor, load_floor
 from mazegen.runtime.exporters.irsim import floor_robot, irsim_files
+from mazegen.runtime.simulation._lidar import beam_angles
 from mazegen.spec import Spec
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
@@ -84,9 +85,9 @@ def check_world(env, floor: Floor, metres: float) -> None:
     assert robot.goal_threshold == pytest.approx(limits.goal_tolerance * metres)
     (lidar,) = robot.sensors
     assert lidar.number == limits.beams and lidar.range_max == pytest.approx(limits.lidar_range * metres)
-    spacing = np.diff(lidar.angle_list)
-    assert spacing == pytest.approx(limits.fov / limits.beams)  # n beams fov/n apart, centred
-    assert lidar.angle_list[0] == pytest.approx(-lidar.angle_list[-1])
+    # the beams point where the simulator's do: IR-SIM's angles turned by the sensor's mount
+    directions = lidar.angle_list + lidar.offset[2, 0]
+    assert directions == pytest.approx(beam_angles(limits.beams, limits.fov), abs=1e-8)  # nine decimals
     assert not robot.collision
 
 
