@@ -1,0 +1,191 @@
+"""IR-SIM, an independent simulator, as the oracle of MazeGen's: the same floors (exported with
+``--format irsim``), the same commands, and the same outcome on at least 95 % of the floors, every
+disagreement explained by how IR-SIM's check differs, confirmed with exact geometry (shapely).
+
+IR-SIM moves the robot by the same forward-Euler step but decides a collision only at the end of
+each step, with the robot's disc drawn as a polygon inscribed in it, and an arrival only at the end
+of each step. MazeGen's simulator checks the whole segment each step drives (the swept disc, and
+the segment's closest approach to the goal). So MazeGen can see a contact or an arrival that IR-SIM
+cannot; never the reverse.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from mazegen.runtime.simulation import NO_PATH, OUTCOMES, drive
+from mazegen.spec import robot_for
+from tests.runtime.floors import ARENA, population
+from tests.runtime.simulation.irsim_replay import (
+    METRES,
+    drive_recording,
+    export_world,
+    floor_parts,
+    inscribed,
+    oracle_floors,
+    replay,
+)
+
+pytest.importorskip("irsim", reason="ir-sim is in the test extra")
+
+FLOORS = 90
+"""Random floors made; those MazeGen finds a path on are driven (at least 50 of them)."""
+
+
+def contact_within_step(obstacles, start: np.ndarray, end: np.ndarray, radius: float) -> bool:
+    """MazeGen's collision, which IR-SIM cannot see: the step's swept disc touches an obstacle, while
+    IR-SIM's polygonal disc at the step's end does not (the exact disc is clear of the obstacles by
+    more than the polygon is inset from it)."""
+    segment = (
+        shapely.LineString([start[:2], end[:2]]) if np.any(start[:2] != end[:2]) else shapely.Point(end[:2])
+    )
+    swept = shapely.distance(segment, obstacles)
+    at_end = shapely.distance(shapely.Point(end[:2]), obstacles)
+    return bool(swept <= radius * (1 + 1e-12) and at_end > inscribed(radius))
+
+
+def goal_within_step(goal, start: np.ndarray, end: np.ndarray, tolerance: float) -> bool:
+    """MazeGen's arrival, which IR-SIM cannot see: the step's segment comes within the goal
+    tolerance, while its end, the only point IR-SIM checks, does not."""
+    segment = shapely.LineString([start[:2], end[:2]])
+    return bool(segment.distance(goal) <= tolerance and shapely.Point(end[:2]).distance(goal) >= tolerance)
+
+
+def test_irsim_agrees_with_mazegen_on_replayed_drives(tmp_path):
+    floors = oracle_floors(FLOORS)
+    episodes, commands = drive_recording(floors)
+    arena = floors.arena
+    radius = arena.robot_radius
+    tolerance = 0.3 / METRES  # robot_for's goal tolerance, 0.3 m
+    room = shapely.box(0, 0, arena.width, arena.height).exterior
+    goal = shapely.Point(arena.goal)
+    driven = np.flatnonzero(episodes.outcome != NO_PATH)
+    assert driven.size >= 50
+    assert episodes.trajectory is not None
+    results, explained = Counter(), Counter()
+    for m in driven.tolist():
+        ours = OUTCOMES[episodes.outcome[m]]
+        given = np.array(commands.get(m, []), np.float64).reshape(-1, 2)
+        assert len(given) == episodes.steps[m]
+        theirs = replay(export_world(floors, m, tmp_path, lidar=False), given * [METRES, 1.0])
+        poses = theirs.poses / [METRES, METRES, 1.0]
+        # Same kinematics: every pose both simulators reach is the same (up to the heading's wrap).
+        shared = min(len(poses), episodes.steps[m] + (0 if ours == "collision" else 1))
+        track = episodes.trajectory[m, :shared]
+        assert np.abs(poses[:shared, :2] - track[:, :2]).max(initial=0) < 1e-6 * arena.width
+        assert np.abs(np.sin(poses[:shared, 2] - track[:, 2])).max(initial=0) < 1e-9
+        results[(ours, theirs.outcome)] += 1
+        if ours == theirs.outcome or (ours == "timeout" and theirs.outcome == "running"):
+            continue
+        # A disagreement: IR-SIM ran every command MazeGen gave and saw nothing at the last step.
+        assert theirs.outcome == "running" and len(poses) == len(given) + 1, (m, ours, theirs.outcome)
+        start, end = poses[-2] if len(poses) > 1 else poses[-1], poses[-1]
+        if ours == "collision":
+            obstacles = shapely.union_all([room, *(shapely.Polygon(p) for p in floor_parts(floors, m))])
+            assert contact_within_step(obstacles, start, end, radius), f"floor {m}: unexplained collision"
+            explained["contact within a step"] += 1
+        else:
+            assert ours == "arrived" and goal_within_step(goal, start, end, tolerance), f"floor {m}"
+            explained["goal within a step"] += 1
+    agree = sum(
+        n
+        for (ours, theirs), n in results.items()
+        if ours == theirs or (ours, theirs) == ("timeout", "running")
+    )
+    print(f"\nIR-SIM oracle: {agree}/{driven.size} agree; {dict(results)}; explained {dict(explained)}")
+    assert agree >= 0.95 * driven.size
+    assert sum(explained.values()) == driven.size - agree
+    # The drives end in every way, so each verdict is compared.
+    assert {ours for ours, _ in results} == {"arrived", "collision", "timeout"}
+
+
+class Constant:
+    """A policy that gives every robot the same command at every step."""
+
+    def __init__(self, speed: float, turn: float) -> None:
+        self.action = (speed, turn)
+
+    def __call__(self, observations) -> np.ndarray:
+        return np.tile(self.action, (observations.floor.size, 1))
+
+
+def drive_both(elements: list[tuple], start: tuple[float, float, float], speed: float, folder: Path):
+    """MazeGen's drive of one hand-made floor from ``start`` (arena units) with a constant speed,
+    straight ahead, and IR-SIM's replay of as many steps of it."""
+    floors = population(ARENA, [elements])
+    episodes = drive(
+        floors, robot=robot_for(ARENA), controller=Constant(speed, 0.0), starts=np.array([start]), record=True
+    )
+    commands = np.array([[speed * METRES, 0.0]] * int(episodes.steps[0]))
+    world = export_world(floors, 0, folder, lidar=False)
+    theirs = replay(world, commands, np.array(start) * [METRES, METRES, 1.0])
+    return floors, episodes, theirs
+
+
+def test_replay_moves_the_robot_by_forward_euler(tmp_path):
+    """The harness on hand-made commands: IR-SIM's poses are the forward-Euler unicycle's."""
+    floors = population(ARENA, [[]])
+    world = export_world(floors, 0, tmp_path, lidar=False)
+    # within the acceleration window (1 m/s and 2 rad/s a step), which IR-SIM applies as MazeGen does
+    commands = np.array([[0.5, 0.0]] * 3 + [[0.4, 1.0]] * 5 + [[0.0, -0.8]] * 2)
+    result = replay(world, commands)
+    (sx, sy), (gx, gy) = ARENA.start, ARENA.goal
+    x, y, theta = sx * METRES, sy * METRES, float(np.arctan2(gy - sy, gx - sx))
+    expected = [(x, y, theta)]
+    for v, w in commands:
+        x, y, theta = x + v * np.cos(theta) * 0.1, y + v * np.sin(theta) * 0.1, theta + w * 0.1
+        expected.append((x, y, theta))
+    assert result.outcome == "running"
+    assert result.poses[:, :2] == pytest.approx(np.array(expected)[:, :2], abs=1e-9)
+    assert np.sin(result.poses[:, 2] - np.array(expected)[:, 2]) == pytest.approx(0, abs=1e-9)
+
+
+def test_replay_stops_at_irsims_collision_and_arrival(tmp_path):
+    floors = population(ARENA, [[]])
+    world = export_world(floors, 0, tmp_path, lidar=False)
+    into_the_wall = replay(world, np.array([[0.0, -np.pi / 4 / 0.1 / 5]] * 5 + [[0.5, 0.0]] * 400))
+    assert into_the_wall.outcome == "collision"
+    # The wall is the arena's south edge: the robot's centre is within its radius of y = 0.
+    assert into_the_wall.poses[-1, 1] <= ARENA.robot_radius * METRES + 0.05
+    assert into_the_wall.poses[-2, 1] > ARENA.robot_radius * METRES
+    _, episodes, to_goal = drive_both([], (ARENA.goal[0] - 100, ARENA.goal[1], 0.0), 50.0, tmp_path)
+    assert OUTCOMES[episodes.outcome[0]] == to_goal.outcome == "arrived"
+    assert len(to_goal.poses) == episodes.steps[0] + 1
+
+
+def test_a_corner_touched_between_two_steps_is_seen_by_mazegen_only(tmp_path):
+    """A square turned 45°, its lowest corner 0.5 mm inside the robot's reach at the middle of a
+    step and out of reach at both ends: MazeGen's swept check collides, IR-SIM's end check does
+    not, and the oracle's class says so."""
+    radius, side, corner_x = ARENA.robot_radius, 30.0, 152.5
+    centre_y = 300 + radius - 0.05 + side / np.sqrt(2)
+    floors, episodes, theirs = drive_both(
+        [("router", corner_x, centre_y, side, side, 45)], (100.0, 300.0, 0.0), 50.0, tmp_path
+    )
+    (part,) = floor_parts(floors, 0)
+    assert part[:, 1].min() == pytest.approx(300 + radius - 0.05)
+    assert OUTCOMES[episodes.outcome[0]] == "collision"
+    assert theirs.outcome == "running"
+    poses = theirs.poses / [METRES, METRES, 1.0]
+    assert contact_within_step(shapely.Polygon(part), poses[-2], poses[-1], radius)
+    # The same check on the step before, which touched nothing, does not explain anything.
+    assert not contact_within_step(shapely.Polygon(part), poses[-3], poses[-2], radius)
+
+
+def test_a_goal_crossed_between_two_steps_is_seen_by_mazegen_only(tmp_path):
+    """The robot passes 0.1 mm inside the goal tolerance at the middle of a step, out of it at both
+    ends: MazeGen arrives, IR-SIM does not."""
+    tolerance = 0.3 / METRES
+    gx, gy = ARENA.goal
+    _, episodes, theirs = drive_both([], (gx - 5 * 20 - 2.5, gy - tolerance + 0.01, 0.0), 50.0, tmp_path)
+    assert OUTCOMES[episodes.outcome[0]] == "arrived"
+    assert theirs.outcome == "running"
+    poses = theirs.poses / [METRES, METRES, 1.0]
+    goal = shapely.Point(ARENA.goal)
+    assert goal_within_step(goal, poses[-2], poses[-1], tolerance)
+    assert not goal_within_step(goal, poses[-3], poses[-2], tolerance)
