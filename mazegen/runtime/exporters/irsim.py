@@ -39,8 +39,6 @@ def floor_robot(floor: Floor) -> Robot:
     Raises:
         MazeError: When the document's arena has no robot radius (IR-SIM's robot is a disc).
     """
-    if floor.spec is not None and floor.spec.robot is not None:
-        return floor.spec.robot
     arena = floor.arena
     radius = float(arena.get("robot_radius", 0.0))
     if not radius > 0:
@@ -48,7 +46,7 @@ def floor_robot(floor: Floor) -> Robot:
             "an IR-SIM robot needs the arena's robot radius, which is not given", filename=floor.where
         )
     if floor.spec is not None:
-        return robot_for(floor.spec.arena)
+        return floor.spec.robot or robot_for(floor.spec.arena)
     start, goal = (tuple(float(v) for v in arena[key]) for key in ("start", "goal"))
     return robot_for(
         Arena(
@@ -63,7 +61,7 @@ def floor_robot(floor: Floor) -> Robot:
     )
 
 
-def start_pose(arena: dict[str, Any]) -> tuple[float, float, float]:
+def _start_pose(arena: dict[str, Any]) -> tuple[float, float, float]:
     """``(x, y, theta)`` at the arena's start, heading toward the goal (arena units)."""
     (sx, sy), (gx, gy) = arena["start"], arena["goal"]
     return float(sx), float(sy), math.atan2(float(gy) - float(sy), float(gx) - float(sx))
@@ -88,11 +86,13 @@ def _beams(beams: int, fov: float) -> str:
 def _robot(floor: Floor, metres: float) -> list[str]:
     robot = floor_robot(floor)
     arena = floor.arena
-    x, y, heading = start_pose(arena)
+    x, y, heading = _start_pose(arena)
     gx, gy = (float(v) * metres for v in arena["goal"])
     lidar = (
         f"{{type: lidar2d, range_min: 0.0, range_max: {yaml_number(robot.lidar_range * metres)}, "
         f"{_beams(robot.beams, robot.fov)}}}"
+        if robot.lidar_range > 0 and robot.beams > 0
+        else ""
     )
     return [
         "robot:",
@@ -105,7 +105,7 @@ def _robot(floor: Floor, metres: float) -> list[str]:
         f"    vel_min: {_flow((robot.min_speed * metres, -robot.max_turn))}",
         f"    vel_max: {_flow((robot.max_speed * metres, robot.max_turn))}",
         f"    acce: {_flow((robot.accel * metres, robot.turn_accel))}",
-        f"    sensors: [{lidar}]" if robot.lidar_range > 0 and robot.beams > 0 else "    sensors: []",
+        f"    sensors: [{lidar}]",
     ]
 
 

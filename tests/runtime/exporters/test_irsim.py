@@ -3,6 +3,7 @@ written, from any folder; options that do not apply are refused."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -20,7 +21,7 @@ from mazegen.runtime.exporters import check_options
 from mazegen.runtime.exporters.floor import ExportOptions, Floor, load_floor
 from mazegen.runtime.exporters.irsim import floor_robot, irsim_files
 from mazegen.runtime.simulation._lidar import beam_angles
-from mazegen.spec import Spec
+from mazegen.spec import Spec, robot_for
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 
@@ -82,13 +83,17 @@ def check_world(env, floor: Floor, metres: float) -> None:
     assert robot.radius == pytest.approx(arena["robot_radius"] * metres)
     limits = floor_robot(floor)
     assert robot.vel_max[:, 0] == pytest.approx([limits.max_speed * metres, limits.max_turn])
+    assert robot.vel_min[:, 0] == pytest.approx([limits.min_speed * metres, -limits.max_turn])
+    assert np.ravel(robot.info.acce) == pytest.approx([limits.accel * metres, limits.turn_accel])
     assert robot.goal_threshold == pytest.approx(limits.goal_tolerance * metres)
+    assert not robot.collision
+    if limits.beams == 0:
+        return
     (lidar,) = robot.sensors
     assert lidar.number == limits.beams and lidar.range_max == pytest.approx(limits.lidar_range * metres)
     # the beams point where the simulator's do: IR-SIM's angles turned by the sensor's mount
     directions = lidar.angle_list + lidar.offset[2, 0]
     assert directions == pytest.approx(beam_angles(limits.beams, limits.fov), abs=1e-8)  # nine decimals
-    assert not robot.collision
 
 
 @pytest.mark.parametrize("spec_path", SPECS, ids=[p.stem for p in SPECS])
@@ -174,3 +179,21 @@ def test_cli_refuses_cell_and_a_floor_without_robot_radius_in_one_line(tmp_path)
         assert done.returncode != 0 and "Traceback" not in done.stderr
         assert done.stderr.count("\n") == 1 and message in done.stderr, done.stderr
     assert not (tmp_path / "exports").exists()
+
+
+def test_the_specs_robot_block_sets_the_limits_and_the_lidar(tmp_path):
+    base = mazegen.load(EXAMPLES / "factory.maze")
+    robot = robot_for(base.arena, max_speed=80.0, max_turn=1.0, beams=90, fov=math.pi, lidar_range=200.0)
+    floor = hand_floor(dataclasses.replace(base, robot=robot), tmp_path)
+    env = make(world_of(floor, tmp_path))
+    check_world(env, floor, 0.01)
+    assert env.robot.vel_max[:, 0] == pytest.approx([0.8, 1.0])
+    (lidar,) = env.robot.sensors
+    assert lidar.number == 90 and lidar.range_max == pytest.approx(2.0)
+    assert lidar.angle_list[[0, -1]] == pytest.approx([-math.pi / 2, math.pi / 2])
+
+
+def test_a_robot_without_a_lidar_has_no_sensor(tmp_path):
+    base = mazegen.load(EXAMPLES / "factory.maze")
+    floor = hand_floor(dataclasses.replace(base, robot=robot_for(base.arena, beams=0)), tmp_path)
+    assert make(world_of(floor, tmp_path)).robot.sensors == []
