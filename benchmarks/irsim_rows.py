@@ -101,8 +101,8 @@ def irsim_rate(worlds: list[Path], commands: list[np.ndarray], repeats: int) -> 
 def irsim_rows(*, floors: int = 400, sample: int = 12, repeats: int = 3) -> list[dict]:
     """One row per lidar setting: both simulators' robot-steps per second and their ratio."""
     population = oracle_floors(floors)
-    _, commands = drive_recording(population)
-    table = command_table(population, commands)
+    _, policy = drive_recording(population)
+    table = command_table(population, policy.commands)
     episodes = drive(population, robot=robot_for(ARENA), controller=ReplayPolicy(table))
     driven = np.flatnonzero(episodes.outcome != NO_PATH)
     picked = driven[:: max(1, len(driven) // sample)][:sample]

@@ -22,7 +22,7 @@ from mazegen.runtime.exporters.floor import ExportOptions, Floor
 from mazegen.runtime.exporters.irsim import irsim_files
 from mazegen.runtime.geometry.elements import world_vertices
 from mazegen.runtime.simulation import Episodes, Observations, drive
-from mazegen.spec import Robot, robot_for
+from mazegen.spec import robot_for
 from tests.runtime.floors import ARENA, NAMES, population, random_floors
 
 METRES = 0.01
@@ -76,8 +76,10 @@ class RecordingPolicy:
     at the goal, so that the drive ends in every way: arrivals, collisions and timeouts.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, scans: int = 0) -> None:
         self.commands: dict[int, list[tuple[float, float]]] = {}
+        self.keep = scans
+        self.scans: dict[int, list[np.ndarray]] = {}
 
     def __call__(self, observations: Observations) -> np.ndarray:
         max_speed, _, max_turn = observations.limits[:3]
@@ -93,14 +95,18 @@ class RecordingPolicy:
         actions = np.column_stack([speed, turn])
         for floor, action in zip(observations.floor.tolist(), actions.tolist()):
             self.commands.setdefault(floor, []).append((action[0], action[1]))
+        if observations.step < self.keep:
+            for floor, ranges in zip(observations.floor.tolist(), scan):
+                self.scans.setdefault(floor, []).append(ranges.copy())
         return actions
 
 
-def drive_recording(floors: Population, robot: Robot | None = None) -> tuple[Episodes, dict]:
-    """MazeGen's drive of every floor with :class:`RecordingPolicy`, and the commands it gave."""
-    policy = RecordingPolicy()
-    episodes = drive(floors, robot=robot or robot_for(floors.arena), controller=policy, record=True)
-    return episodes, policy.commands
+def drive_recording(floors: Population, scans: int = 0) -> tuple[Episodes, RecordingPolicy]:
+    """MazeGen's drive of every floor with :class:`RecordingPolicy` (keeping the lidar scans of the
+    first ``scans`` steps), and the policy with the commands it gave."""
+    policy = RecordingPolicy(scans)
+    episodes = drive(floors, robot=robot_for(floors.arena), controller=policy, record=True)
+    return episodes, policy
 
 
 @dataclass(frozen=True)
@@ -110,10 +116,12 @@ class Replay:
     Attributes:
         outcome: ``arrived`` or ``collision`` at the step IR-SIM says so, else ``running``.
         poses: ``float64[k + 1, 3]`` the robot's poses from the start, in the world's metres.
+        scans: ``float64[k + 1, beams]`` IR-SIM's lidar ranges at each of those poses.
     """
 
     outcome: str
     poses: np.ndarray
+    scans: np.ndarray
 
 
 def make(world: Path):
@@ -132,16 +140,21 @@ def replay(world: Path, commands: np.ndarray, start: np.ndarray | None = None) -
         robot.set_state(np.asarray(start, np.float64).reshape(3, 1), init=True)
         env.build_tree()
     poses = [robot.state[:3, 0].copy()]
+    scans = [_ranges(robot)]
     if any(robot.check_collision(obstacle) for obstacle in env.obstacle_list):
-        return Replay("collision", np.array(poses))
+        return Replay("collision", np.array(poses), np.array(scans))
     for v, w in np.asarray(commands, np.float64).reshape(-1, 2):
         env.step([float(v), float(w)])
         poses.append(robot.state[:3, 0].copy())
-        if robot.collision:
-            return Replay("collision", np.array(poses))
-        if robot.arrive:
-            return Replay("arrived", np.array(poses))
-    return Replay("running", np.array(poses))
+        scans.append(_ranges(robot))
+        if robot.collision or robot.arrive:
+            return Replay("collision" if robot.collision else "arrived", np.array(poses), np.array(scans))
+    return Replay("running", np.array(poses), np.array(scans))
+
+
+def _ranges(robot) -> np.ndarray:
+    """The robot's lidar ranges (none when it has no lidar)."""
+    return robot.sensors[0].range_data.copy() if robot.sensors else np.zeros(0)
 
 
 def disc_sides() -> int:

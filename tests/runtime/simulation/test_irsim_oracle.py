@@ -33,7 +33,7 @@ from tests.runtime.simulation.irsim_replay import (
 
 pytest.importorskip("irsim", reason="ir-sim is in the test extra")
 
-FLOORS = 90
+FLOORS = 100
 """Random floors made; those MazeGen finds a path on are driven (at least 50 of them)."""
 
 
@@ -58,7 +58,8 @@ def goal_within_step(goal, start: np.ndarray, end: np.ndarray, tolerance: float)
 
 def test_irsim_agrees_with_mazegen_on_replayed_drives(tmp_path):
     floors = oracle_floors(FLOORS)
-    episodes, commands = drive_recording(floors)
+    episodes, policy = drive_recording(floors)
+    commands = policy.commands
     arena = floors.arena
     radius = arena.robot_radius
     tolerance = 0.3 / METRES  # robot_for's goal tolerance, 0.3 m
@@ -189,3 +190,20 @@ def test_a_goal_crossed_between_two_steps_is_seen_by_mazegen_only(tmp_path):
     goal = shapely.Point(ARENA.goal)
     assert goal_within_step(goal, poses[-2], poses[-1], tolerance)
     assert not goal_within_step(goal, poses[-3], poses[-2], tolerance)
+
+
+def test_irsims_lidar_reads_what_mazegens_reads(tmp_path):
+    """The same 360 beams from the same poses against the same parts and walls: the same ranges
+    (IR-SIM casts its rays on its own, analytically)."""
+    floors = oracle_floors(24)
+    _, policy = drive_recording(floors, scans=12)
+    compared = 0
+    for m, scans in sorted(policy.scans.items())[:12]:
+        ours = np.array(scans)
+        given = np.array(policy.commands[m][: len(scans) - 1]).reshape(-1, 2)
+        theirs = replay(export_world(floors, m, tmp_path, lidar=True), given * [METRES, 1.0])
+        shared = min(len(ours), len(theirs.scans))
+        assert np.abs(theirs.scans[:shared] / METRES - ours[:shared]).max() < 1e-6 * floors.arena.width
+        assert (ours[:shared] < robot_for(ARENA).lidar_range).any()  # the beams see something
+        compared += shared
+    assert compared >= 100
