@@ -5,8 +5,9 @@ Usage:
     python benchmarks/irsim_rows.py            # 400 floors, IR-SIM on 12 of them, median of 3
     python benchmarks/irsim_rows.py --quick    # 100 floors, IR-SIM on 4, median of 3
 
-The floors are random floors of the factory's elements (``tests/runtime/simulation/irsim_replay``,
-the IR-SIM oracle's). MazeGen's simulator drives them once with a recording batch policy; then both
+Run alone, the floors are random floors of the factory's elements (the IR-SIM oracle's,
+``tests/runtime/simulation/irsim_replay``); ``irsim_rows(population)`` takes any floors (a few
+hundred of ``benchmarks/simulation.py``'s, say: every command is kept in Python lists). MazeGen's simulator drives them once with a recording batch policy; then both
 simulators replay those commands: MazeGen's through a batch policy that returns them (one Python
 call per step for every robot, so the compiled loop of a bundled controller is faster still), IR-SIM
 from each floor's ``--format irsim`` world with ``env.step``, each with its own collision checks, and
@@ -32,11 +33,10 @@ from common import ROOT, markdown_table, median_seconds
 sys.path.insert(0, str(ROOT))  # the oracle's floors and replay live with its test
 
 from mazegen.runtime.engine.population import Population
+from mazegen.runtime.exporters.floor import METRES_PER_UNIT
 from mazegen.runtime.simulation import NO_PATH, Observations, drive
 from mazegen.spec import Robot, robot_for
-from tests.runtime.floors import ARENA
 from tests.runtime.simulation.irsim_replay import (
-    METRES,
     drive_recording,
     export_world,
     make,
@@ -98,18 +98,19 @@ def irsim_rate(worlds: list[Path], commands: list[np.ndarray], repeats: int) -> 
     return statistics.median(rates[1:]), steps
 
 
-def irsim_rows(*, floors: int = 400, sample: int = 12, repeats: int = 3) -> list[dict]:
-    """One row per lidar setting: both simulators' robot-steps per second and their ratio."""
-    population = oracle_floors(floors)
+def irsim_rows(population: Population, *, sample: int = 12, repeats: int = 3) -> list[dict]:
+    """One row per lidar setting: both simulators' robot-steps per second on ``population``'s floors
+    (IR-SIM on ``sample`` of those with a path), and their ratio."""
+    arena, metres = population.arena, METRES_PER_UNIT[population.arena.unit]
     _, policy = drive_recording(population)
     table = command_table(population, policy.commands)
-    episodes = drive(population, robot=robot_for(ARENA), controller=ReplayPolicy(table))
+    episodes = drive(population, robot=robot_for(arena), controller=ReplayPolicy(table))
     driven = np.flatnonzero(episodes.outcome != NO_PATH)
     picked = driven[:: max(1, len(driven) // sample)][:sample]
     rows = []
     with tempfile.TemporaryDirectory() as folder:
         for lidar in (False, True):
-            robot = robot_for(ARENA) if lidar else robot_for(ARENA, beams=0)
+            robot = robot_for(arena) if lidar else robot_for(arena, beams=0)
             threads = numba.get_num_threads()
             ours = mazegen_rate(population, driven, table, robot, repeats)
             numba.set_num_threads(1)
@@ -118,7 +119,7 @@ def irsim_rows(*, floors: int = 400, sample: int = 12, repeats: int = 3) -> list
             finally:
                 numba.set_num_threads(threads)
             worlds = [export_world(population, m, Path(folder), lidar=lidar) for m in picked.tolist()]
-            given = [table[m, : episodes.steps[m]] * [METRES, 1.0] for m in picked.tolist()]
+            given = [table[m, : episodes.steps[m]] * [metres, 1.0] for m in picked.tolist()]
             theirs, steps = irsim_rate(worlds, given, repeats)
             rows.append(
                 {
@@ -155,7 +156,8 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
     floors, sample = (100, 4) if args.quick else (400, 12)
-    print(markdown_table(irsim_rows(floors=floors, sample=sample, repeats=args.repeats), COLUMNS))
+    rows = irsim_rows(oracle_floors(floors), sample=sample, repeats=args.repeats)
+    print(markdown_table(rows, COLUMNS))
 
 
 if __name__ == "__main__":
