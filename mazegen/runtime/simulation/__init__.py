@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
+    from mazegen.runtime.simulation._drive import drive
     from mazegen.runtime.simulation._episodes import (
         ARRIVED,
         COLLISION,
@@ -19,8 +20,6 @@ if TYPE_CHECKING:
         Episodes,
         barn_score,
     )
-
-    from mazegen.runtime.simulation._drive import drive
     from mazegen.runtime.simulation._policy import Observations
 
 __all__ = [

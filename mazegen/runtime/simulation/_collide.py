@@ -136,10 +136,11 @@ def part_distance(px, py, vertices, n):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def distance(px, py, floor, world):  # pragma: no cover - compiled
-    """Distance from point ``p`` to the nearest part or wall of driven floor ``floor``."""
+def distance(px, py, floor, world, cutoff):  # pragma: no cover - compiled
+    """Distance from point ``p`` to the nearest part or wall of driven floor ``floor``, or
+    ``cutoff`` when that is nearer (parts beyond it are culled by their boxes)."""
     first, vertices, count, box, size = world
-    best = min(px, size[0] - px, py, size[1] - py)
+    best = min(px, size[0] - px, py, size[1] - py, cutoff)
     for q in range(first[floor], first[floor + 1]):
         gx = max(box[q, 0] - px, 0.0, px - box[q, 2])
         gy = max(box[q, 1] - py, 0.0, py - box[q, 3])

@@ -94,10 +94,8 @@ def purepursuit_command(
     rotate_to_heading, regulated_min_speed (see :mod:`mazegen.controllers`).
     """
     x, y, theta = pose[0], pose[1], pose[2]
-    if params[3] > 0.0:  # velocity-scaled lookahead
-        reach = min(max(abs(pose[3]) * params[3], params[1]), params[2])
-    else:
-        reach = params[0]
+    # nav2's velocity-scaled lookahead, or its fixed lookahead_dist when lookahead_time is 0
+    reach = min(max(abs(pose[3]) * params[3], params[1]), params[2]) if params[3] > 0.0 else params[0]
     cx, cy = carrot(path, x, y, reach) if path.shape[0] else (goal[0], goal[1])
     c, s = math.cos(theta), math.sin(theta)
     lx = c * (cx - x) + s * (cy - y)

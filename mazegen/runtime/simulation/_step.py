@@ -14,7 +14,8 @@ count, the step of its last progress toward the goal and whether it ended stuck.
 4. The episode ends: **arrived** when the segment comes within ``goal_tolerance`` of the goal
    (before any contact); **collision** at the first contact, the robot left at the start of the
    step's segment and the contact centre kept; **timeout** after ``max_steps`` steps or, stuck,
-   after ``stuck_steps`` steps without a new best distance to the goal.
+   after ``stuck_steps`` steps without a new best distance to the goal (better by at least
+   :data:`PROGRESS` of a step at top speed).
 
 The clearance (closest approach of the robot's edge) is taken at every pose, computed exactly
 whenever the lower bound cannot rule out a new minimum.
@@ -47,6 +48,12 @@ X, Y, THETA, V, W, DISTANCE, CLEARANCE, SAFE, BEST, CX, CY = range(11)
 """Columns of the state: pose, velocity, distance driven, closest approach so far, the lower bound
 of the distance to obstacles, best distance to the goal so far, contact centre."""
 COLUMNS = 11
+LOOKOUT = 8
+"""Steps at top speed beyond the closest approach so far that distances are searched to."""
+PROGRESS = 0.01
+"""Progress is a new best distance to the goal by at least this fraction of a step at top speed:
+creeping ever closer by less does not hold off the stuck timeout."""
+"""Steps at top speed beyond the closest approach so far that distances are searched to."""
 
 
 def new_state(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -67,7 +74,7 @@ def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no co
     start within the goal tolerance an arrival, both after 0 steps."""
     state[m, X], state[m, Y], state[m, THETA] = x, y, theta
     state[m, V] = state[m, W] = state[m, DISTANCE] = 0.0
-    d = distance(x, y, m, world)
+    d = distance(x, y, m, world, np.inf)
     state[m, SAFE] = d
     state[m, CLEARANCE] = max(d - limits[RADIUS], 0.0)
     state[m, BEST] = math.hypot(goal[0] - x, goal[1] - y)
@@ -125,14 +132,16 @@ def advance(
     if safe - r >= state[m, CLEARANCE] and safe > r:
         state[m, SAFE] = safe  # this pose can set no new closest approach
     else:
-        d = distance(x1, y1, m, world)
+        # Beyond CLEARANCE + r the distance cannot set a new closest approach: a cutoff a few
+        # steps' drive past it keeps the bound useful and the search short.
+        d = distance(x1, y1, m, world, state[m, CLEARANCE] + r + LOOKOUT * limits[MAX_SPEED] * dt)
         state[m, SAFE] = d
         state[m, CLEARANCE] = min(state[m, CLEARANCE], max(d - r, 0.0))
     if reach <= 1.0:
         outcome[m] = ARRIVED
         return
     to_goal = math.hypot(goal[0] - x1, goal[1] - y1)
-    if to_goal < state[m, BEST]:
+    if to_goal < state[m, BEST] - PROGRESS * limits[MAX_SPEED] * dt:
         state[m, BEST] = to_goal
         progress[m] = steps[m]
     if steps[m] >= max_steps[m]:

@@ -2,8 +2,9 @@
 
 The parts of all driven floors are flattened into one array, floor after floor, so a robot's
 kernel reads ``parts first[m] .. first[m + 1]`` of its floor ``m`` and nothing else. Vertices come
-from :func:`mazegen.runtime.geometry.elements.world_vertices`, the transform every other kernel
-uses, so the simulator collides with exactly the shapes the metrics and drawings see. Each part
+from :func:`mazegen.runtime.geometry.elements.world_element`, the transform every other kernel
+(and :func:`~mazegen.runtime.geometry.elements.world_vertices`) uses, so the simulator collides
+with exactly the shapes the metrics and drawings see. Each part
 carries its bounding box: the collision, distance and lidar kernels cull on it before any exact
 test. The arena's four walls are the lines ``x = 0``, ``x = width``, ``y = 0``, ``y = height``.
 """
@@ -13,9 +14,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit, prange
 
 from mazegen.runtime.engine.population import Population
-from mazegen.runtime.geometry.elements import world_vertices
+from mazegen.runtime.geometry.elements import world_element
 
 
 @dataclass(frozen=True)
@@ -49,21 +51,40 @@ class World:
 def world_of(population: Population, indices: np.ndarray) -> World:
     """The parts of individuals ``indices`` of ``population``, in that order."""
     table = population.table
-    rows = np.asarray(indices, np.int64)
+    rows = np.ascontiguousarray(indices, np.int64)
     n_el = np.asarray(population.n_elements, np.int64)[rows]
-    used = np.arange(population.element_ids.shape[1]) < n_el[:, None]
-    ids = np.asarray(population.element_ids, np.int64)[rows][used]
-    params = np.asarray(population.params, np.float64)[rows][used]
-    placed = world_vertices(table, ids, params)  # [elements, P, V, 2]
-    has_part = np.arange(table.n_parts.max(initial=1)) < table.n_parts[ids][:, None]
-    vertices = np.ascontiguousarray(placed[has_part])
-    count = table.n_vertices[ids][has_part].astype(np.int64)
-    parts_per_floor = np.zeros(len(rows), np.int64)
-    np.add.at(parts_per_floor, np.repeat(np.arange(len(rows)), n_el), table.n_parts[ids])
+    ids = np.asarray(population.element_ids, np.int64)[rows]
+    used = np.arange(ids.shape[1]) < n_el[:, None]
+    parts_per_floor = np.where(used, table.n_parts[np.maximum(ids, 0)], 0).sum(axis=1)
     first = np.concatenate(([0], np.cumsum(parts_per_floor))).astype(np.int64)
-    real = (np.arange(vertices.shape[1]) < count[:, None])[..., None]
-    low = np.where(real, vertices, np.inf).min(axis=1, initial=np.inf)
-    high = np.where(real, vertices, -np.inf).max(axis=1, initial=-np.inf)
-    box = np.ascontiguousarray(np.concatenate((low, high), axis=1).reshape(-1, 4))
+    vertices = np.zeros((first[-1], table.unit.shape[2], 2))
+    count = np.zeros(first[-1], np.int64)
+    box = np.zeros((first[-1], 4))
+    if len(rows):
+        params = np.ascontiguousarray(population.params, np.float64)
+        element_ids = np.ascontiguousarray(population.element_ids, np.int32)
+        n_elements = np.ascontiguousarray(population.n_elements, np.int32)
+        _place(table.shapes, element_ids, n_elements, params, rows, first, vertices, count, box)
     arena = population.arena
     return World(first, vertices, count, box, np.array([arena.width, arena.height], np.float64))
+
+
+@njit(cache=True, parallel=True)
+def _place(shapes, ids, n_el, params, rows, first, vertices, count, box):  # pragma: no cover - compiled
+    """Write the parts of floors ``rows`` from ``first[m]`` on, as every kernel places them
+    (:func:`mazegen.runtime.geometry.elements.world_element`)."""
+    n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
+    for m in prange(rows.shape[0]):
+        i = rows[m]
+        placed = np.empty((1, unit.shape[1], unit.shape[2], 2))
+        part_box = np.empty((1, unit.shape[1], 4))
+        element_box = np.empty((1, 4))
+        q = first[m]
+        for k in range(n_el[i]):
+            e = ids[i, k]
+            world_element(shapes, e, params[i, k], placed, part_box, element_box, 0)
+            for p in range(n_parts[e]):
+                count[q] = n_vertices[e, p]
+                vertices[q, : count[q]] = placed[0, p, : count[q]]
+                box[q] = part_box[0, p]
+                q += 1
