@@ -7,14 +7,15 @@ Usage:
 
 Run alone, the floors are random floors of the factory's elements (the IR-SIM oracle's,
 ``tests/runtime/simulation/irsim_replay``); ``irsim_rows(population)`` takes any floors (a few
-hundred of ``benchmarks/simulation.py``'s, say: every command is kept in Python lists). MazeGen's simulator drives them once with a recording batch policy; then both
-simulators replay those commands: MazeGen's through a batch policy that returns them (one Python
-call per step for every robot, so the compiled loop of a bundled controller is faster still), IR-SIM
-from each floor's ``--format irsim`` world with ``env.step``, each with its own collision checks, and
-in the lidar row each casting its own 360-beam lidar at every step. IR-SIM steps one world at a time
-(loading a world is not timed); MazeGen every floor at once, with all numba threads and with one.
-Every figure is the median of ``--repeats`` runs after one untimed run. The ratio is MazeGen on one
-thread over IR-SIM (one thread too); targets: at least 100x without lidar, 20x with 360 beams.
+hundred of ``benchmarks/simulation.py``'s, say: every command is kept in Python lists).
+MazeGen's simulator drives them once with a recording batch policy; then both simulators replay
+those commands: MazeGen's through a batch policy that returns them (one Python call per step for
+every robot, so the compiled loop of a bundled controller is faster still), IR-SIM from each floor's
+``--format irsim`` world with ``env.step``, each with its own collision checks, and in the lidar row
+each casting its own 360-beam lidar at every step. IR-SIM steps one world at a time (loading a world
+is not timed); MazeGen every floor at once, with all numba threads and with one. Every figure is the
+median of ``--repeats`` runs after one untimed run. The ratio is MazeGen on one thread over IR-SIM
+(one thread too); targets: at least 100x without lidar, 20x with 360 beams.
 """
 
 from __future__ import annotations
