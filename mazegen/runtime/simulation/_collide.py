@@ -108,7 +108,8 @@ def _wall_entry(q, qd, r, far):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _segment_distance(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
+def _segment_distance2(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
+    """Squared distance from ``p`` to segment ``ab``."""
     ex = bx - ax
     ey = by - ay
     fx = px - ax
@@ -117,7 +118,7 @@ def _segment_distance(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
     s = 0.0 if den == 0.0 else min(max((fx * ex + fy * ey) / den, 0.0), 1.0)
     gx = fx - s * ex
     gy = fy - s * ey
-    return math.sqrt(gx * gx + gy * gy)
+    return gx * gx + gy * gy
 
 
 @njit(cache=True)
@@ -131,8 +132,8 @@ def part_distance(px, py, vertices, n):  # pragma: no cover - compiled
         bx, by = vertices[j, 0], vertices[j, 1]
         if (bx - ax) * (py - ay) - (by - ay) * (px - ax) < 0.0:
             inside = False
-        best = min(best, _segment_distance(px, py, ax, ay, bx, by))
-    return 0.0 if inside else best
+        best = min(best, _segment_distance2(px, py, ax, ay, bx, by))
+    return 0.0 if inside else math.sqrt(best)
 
 
 @njit(cache=True)

@@ -140,7 +140,7 @@ def advance(
     if reach <= 1.0:
         outcome[m] = ARRIVED
         return
-    to_goal = math.hypot(goal[0] - x1, goal[1] - y1)
+    to_goal = math.sqrt((goal[0] - x1) ** 2 + (goal[1] - y1) ** 2)
     if to_goal < state[m, BEST] - PROGRESS * limits[MAX_SPEED] * dt:
         state[m, BEST] = to_goal
         progress[m] = steps[m]
