@@ -51,27 +51,23 @@ TARGETS = {False: 100.0, True: 20.0}
 class ReplayPolicy:
     """A batch policy that gives each robot, at each step, the command recorded for it."""
 
-    def __init__(self, table: np.ndarray) -> None:
-        self.table = table
+    def __init__(self, floors: np.ndarray, commands: dict[int, list[tuple[float, float]]]) -> None:
+        longest = max((len(c) for c in commands.values()), default=0)
+        self.table = np.zeros((len(floors), longest + 1, 2))  # zeros past each episode's end
+        self.row = np.full(int(floors.max(initial=0)) + 1, -1)
+        self.row[floors] = np.arange(len(floors))
+        for k, floor in enumerate(floors.tolist()):
+            given = commands.get(floor, [])
+            self.table[k, : len(given)] = given
 
     def __call__(self, observations: Observations) -> np.ndarray:
-        return self.table[observations.floor, observations.step]
-
-
-def command_table(floors: Population, commands: dict[int, list[tuple[float, float]]]) -> np.ndarray:
-    """``float64[N, T, 2]``: floor ``m``'s command at step ``t`` (zeros past its end)."""
-    longest = max((len(c) for c in commands.values()), default=0)
-    table = np.zeros((floors.size, longest + 1, 2))
-    for m, given in commands.items():
-        table[m, : len(given)] = given
-    return table
+        return self.table[self.row[observations.floor], observations.step]
 
 
 def mazegen_rate(
-    floors: Population, driven: np.ndarray, table: np.ndarray, robot: Robot, repeats: int
+    floors: Population, driven: np.ndarray, policy: ReplayPolicy, robot: Robot, repeats: int
 ) -> float:
-    """Robot-steps per second of MazeGen's simulator replaying ``table`` on the ``driven`` floors."""
-    policy = ReplayPolicy(table)
+    """Robot-steps per second of MazeGen's simulator replaying ``policy``'s commands on ``driven``."""
     steps = int(drive(floors, robot=robot, controller=policy, indices=driven).steps.sum())
     seconds = median_seconds(
         lambda: drive(floors, robot=robot, controller=policy, indices=driven), repeats=repeats
@@ -99,28 +95,31 @@ def irsim_rate(worlds: list[Path], commands: list[np.ndarray], repeats: int) -> 
     return statistics.median(rates[1:]), steps
 
 
-def irsim_rows(population: Population, *, sample: int = 12, repeats: int = 3) -> list[dict]:
-    """One row per lidar setting: both simulators' robot-steps per second on ``population``'s floors
-    (IR-SIM on ``sample`` of those with a path), and their ratio."""
+def irsim_rows(
+    population: Population, *, floors: int = 400, sample: int = 12, repeats: int = 3
+) -> list[dict]:
+    """One row per lidar setting: both simulators' robot-steps per second on the first ``floors``
+    valid floors of ``population`` (IR-SIM on ``sample`` of those with a path), and their ratio."""
     arena, metres = population.arena, METRES_PER_UNIT[population.arena.unit]
-    _, policy = drive_recording(population)
-    table = command_table(population, policy.commands)
-    episodes = drive(population, robot=robot_for(arena), controller=ReplayPolicy(table))
-    driven = np.flatnonzero(episodes.outcome != NO_PATH)
+    chosen = np.flatnonzero(population.valid)[:floors]
+    episodes, recording = drive_recording(population, indices=chosen)
+    driven = chosen[episodes.outcome != NO_PATH]
+    steps_of = dict(zip(chosen.tolist(), episodes.steps.tolist()))
+    policy = ReplayPolicy(driven, recording.commands)
     picked = driven[:: max(1, len(driven) // sample)][:sample]
     rows = []
     with tempfile.TemporaryDirectory() as folder:
         for lidar in (False, True):
             robot = robot_for(arena) if lidar else robot_for(arena, beams=0)
             threads = numba.get_num_threads()
-            ours = mazegen_rate(population, driven, table, robot, repeats)
+            ours = mazegen_rate(population, driven, policy, robot, repeats)
             numba.set_num_threads(1)
             try:
-                ours_one = mazegen_rate(population, driven, table, robot, repeats)
+                ours_one = mazegen_rate(population, driven, policy, robot, repeats)
             finally:
                 numba.set_num_threads(threads)
             worlds = [export_world(population, m, Path(folder), lidar=lidar) for m in picked.tolist()]
-            given = [table[m, : episodes.steps[m]] * [metres, 1.0] for m in picked.tolist()]
+            given = [np.array(recording.commands[m][: steps_of[m]]) * [metres, 1.0] for m in picked.tolist()]
             theirs, steps = irsim_rate(worlds, given, repeats)
             rows.append(
                 {
@@ -157,7 +156,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     args = parser.parse_args()
     floors, sample = (100, 4) if args.quick else (400, 12)
-    rows = irsim_rows(oracle_floors(floors), sample=sample, repeats=args.repeats)
+    rows = irsim_rows(oracle_floors(floors), floors=floors, sample=sample, repeats=args.repeats)
     print(markdown_table(rows, COLUMNS))
 
 

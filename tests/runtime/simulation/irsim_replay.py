@@ -101,11 +101,15 @@ class RecordingPolicy:
         return actions
 
 
-def drive_recording(floors: Population, scans: int = 0) -> tuple[Episodes, RecordingPolicy]:
-    """MazeGen's drive of every floor with :class:`RecordingPolicy` (keeping the lidar scans of the
-    first ``scans`` steps), and the policy with the commands it gave."""
+def drive_recording(
+    floors: Population, scans: int = 0, indices: np.ndarray | None = None
+) -> tuple[Episodes, RecordingPolicy]:
+    """MazeGen's drive of the floors ``indices`` (default every valid one) with
+    :class:`RecordingPolicy` (keeping the lidar scans of the first ``scans`` steps), and the policy
+    with the commands it gave."""
     policy = RecordingPolicy(scans)
-    episodes = drive(floors, robot=robot_for(floors.arena), controller=policy, record=True)
+    robot = robot_for(floors.arena)
+    episodes = drive(floors, robot=robot, controller=policy, indices=indices, record=True)
     return episodes, policy
 
 
