@@ -23,10 +23,12 @@ from mazegen.spec import robot_for
 from tests.runtime.floors import ARENA, population
 from tests.runtime.simulation.irsim_replay import (
     METRES,
+    disc_sides,
     drive_recording,
     export_world,
     floor_parts,
     inscribed,
+    make,
     oracle_floors,
     replay,
 )
@@ -250,3 +252,23 @@ def test_irsim_replays_the_bundled_controllers(controller, tmp_path):
         else:
             agree += theirs.outcome == "running"
     assert driven >= 20 and agree == driven
+
+
+def test_a_contact_within_irsims_polygon_inset_is_seen_by_mazegen_only(tmp_path):
+    """The robot ends a step 0.1 mm inside its reach of the east wall, heading so that a side of
+    IR-SIM's polygonal disc (not a corner) faces the wall: the disc touches, the polygon inscribed
+    in it does not."""
+    radius, heading = ARENA.robot_radius, np.pi / disc_sides()
+    end_x = ARENA.width - radius + 0.01
+    start = (end_x - 10 * 5.0 * np.cos(heading), 300.0, heading)  # ten steps of 5 cm
+    floors, episodes, theirs = drive_both([], start, 50.0, tmp_path)
+    assert OUTCOMES[episodes.outcome[0]] == "collision" and episodes.steps[0] == 10
+    assert theirs.outcome == "running"
+    poses = theirs.poses / [METRES, METRES, 1.0]
+    assert poses[-1, 0] == pytest.approx(end_x)
+    walls = shapely.box(0, 0, ARENA.width, ARENA.height).exterior
+    assert contact_within_step(walls, poses[-2], poses[-1], radius)
+    # With its own geometry, IR-SIM agrees that its polygon misses the wall by the inset.
+    env = make(export_world(floors, 0, tmp_path, lidar=False))
+    env.robot.set_state((poses[-1] * [METRES, METRES, 1.0]).reshape(3, 1))
+    assert not any(env.robot.check_collision(obstacle) for obstacle in env.obstacle_list)
