@@ -93,7 +93,7 @@ BUNDLED: dict[str, BundledController] = {
             Parameter("min_radius", 0.9, LENGTH, "turns tighter than this radius slow the robot", 0.0),
             Parameter("rotate_to_heading", 0.785, ANGLE, "heading error to turn on the spot at", 0.0, 3.15),
             Parameter("regulated_min_speed", 0.25, SPEED, "slowest speed the turn regulation slows to", 0.0),
-            Parameter("path_margin", 0.3, LENGTH, "the path keeps this far beyond the radius where it can", 0.0),
+            Parameter("path_margin", 0.3, LENGTH, "the path keeps this far past the radius if it can", 0.0),
         ),
     ),
     "vfh": BundledController(

@@ -131,6 +131,11 @@ class _Run:
         self.limits, self.goal, self.world, self.paths = limits, goal, world, paths
         self.angles, self.reach, self.max_steps, self.stuck_steps = angles, reach, max_steps, stuck_steps
 
+    @property
+    def episode(self) -> tuple:
+        """``(limits, goal, max_steps, stuck_steps)``: what the step kernel reads besides the parts."""
+        return self.limits, self.goal, self.max_steps, self.stuck_steps
+
 
 _NO_FIELDS = (np.full((1, 1, 1), np.inf, np.float32), np.zeros((1, 1, 1), np.float32), np.zeros(5))
 """The fields of controllers that read none: one 1×1 dummy shared by every floor."""
@@ -165,21 +170,18 @@ def _run_with_fields(
 def _run_bundled(choice: Choice, run: _Run, fields: tuple, *arrays: np.ndarray) -> None:
     blocks = min(len(arrays[0]), 32 * numba.get_num_threads())
     with numba.parallel_chunksize(1):  # episodes differ in length: hand out blocks one at a time
+        paths, fov = (run.paths.corners, run.paths.count), (run.angles, run.reach)
         run_all(
             choice.code,
             choice.params,
-            run.limits,
-            run.goal,
             run.world.arrays,
-            run.paths.corners,
-            run.paths.count,
+            run.episode,
+            *paths,
             fields,
-            run.angles,
-            run.reach,
-            run.max_steps,
-            run.stuck_steps,
+            *fov,
             blocks,
-            *arrays,
+            arrays[:5],
+            arrays[5],
         )
 
 

@@ -91,22 +91,16 @@ def _window(command, current, change, low, high):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def advance(
-    m,
-    command_v,
-    command_w,
-    limits,
-    goal,
-    world,
-    max_steps,
-    stuck_steps,
-    state,
-    outcome,
-    steps,
-    progress,
-    stuck,
-):  # pragma: no cover
-    """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring."""
+def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cover - compiled
+    """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring.
+
+    ``world`` is the floors' parts (:class:`mazegen.runtime.simulation._world.World`'s arrays);
+    ``episode`` is ``(limits, goal, max_steps, stuck_steps)``: what every robot of a drive reads;
+    ``robots`` is ``(state, outcome, steps, progress, stuck)``: what they write. (The parts are not
+    in ``episode``: numba's parallel loops take no tuple nested in a tuple.)
+    """
+    limits, goal, max_steps, stuck_steps = episode
+    state, outcome, steps, progress, stuck = robots
     dt = limits[STEP]
     r = limits[RADIUS]
     v = _window(command_v, state[m, V], limits[ACCEL] * dt, limits[MIN_SPEED], limits[MAX_SPEED])
