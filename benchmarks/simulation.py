@@ -17,6 +17,8 @@ the corners purepursuit follows), the floors' parts, the episodes. Every figure 
 and with one. Prints one Markdown table per controller, and the targets: ``straight`` and
 ``purepursuit`` at least 20,000 episodes/s on 2 cores, ``dwa`` 500 (its fields built inside the
 timed drive), ``vfh`` (a 360-beam lidar) 200 (the issue's; a loaded machine measures less).
+Then IR-SIM's table (``irsim_rows.py``): IR-SIM and MazeGen's simulator replaying the same commands
+on the first 400 valid floors, robot-steps per second without and with a 360-beam lidar.
 """
 
 from __future__ import annotations
@@ -27,6 +29,8 @@ from collections.abc import Callable
 import numba
 import numpy as np
 from common import markdown_table, median_seconds
+from irsim_rows import COLUMNS as IRSIM_COLUMNS
+from irsim_rows import irsim_rows
 from kernels import evolved_sample, load_problem
 
 from mazegen.runtime.engine.population import Population
@@ -95,8 +99,14 @@ def table(title: str, rows: list[dict], columns: list[tuple[str, str, str]] = CO
     return f"### {title}\n\n{markdown_table(rows, columns)}\n"
 
 
-SECTIONS: list[tuple[str, Callable[[Population, int], list[dict]]]] = []
-"""Further tables after the controllers': (title, rows of the floors and repeats)."""
+SECTIONS: list[tuple[str, Callable[[Population, int], list[dict]], list[tuple[str, str, str]]]] = [
+    (
+        "IR-SIM and MazeGen's simulator: the same floors, the same commands",
+        lambda floors, repeats: irsim_rows(floors, repeats=repeats),
+        IRSIM_COLUMNS,
+    ),
+]
+"""Further tables after the controllers': (title, rows of the floors and repeats, columns)."""
 
 
 def main() -> None:
@@ -112,8 +122,8 @@ def main() -> None:
     print(f"{count:,} evolved floors of examples/factory.maze, {int(floors.valid.sum()):,} valid\n")
     for name in args.controllers:
         print(table(f"`{name}`", controller_rows(name, floors, args.repeats)))
-    for title, rows in SECTIONS:
-        print(table(title, rows(floors, args.repeats)))
+    for title, rows, columns in SECTIONS:
+        print(table(title, rows(floors, args.repeats), columns))
 
 
 if __name__ == "__main__":

@@ -8,7 +8,7 @@ import click
 
 from mazegen.cli.errors import reports_errors
 
-FORMAT_NAMES = ("ros", "gazebo", "movingai", "json", "svg", "png")
+FORMAT_NAMES = ("ros", "gazebo", "irsim", "movingai", "json", "svg", "png")
 """The names of :data:`mazegen.runtime.exporters.FORMATS`, known here without importing the runtime."""
 
 
@@ -20,7 +20,7 @@ FORMAT_NAMES = ("ros", "gazebo", "movingai", "json", "svg", "png")
     "fmt",
     required=True,
     type=click.Choice(FORMAT_NAMES),
-    help="ros: PGM + YAML map; gazebo: SDF world; movingai: .map + .scen; json; svg; png.",
+    help="ros: PGM + YAML map; gazebo: SDF world; irsim: IR-SIM YAML; movingai: .map, .scen; json; svg; png.",
 )
 @click.option(
     "-o",
@@ -41,7 +41,7 @@ FORMAT_NAMES = ("ros", "gazebo", "movingai", "json", "svg", "png")
 @click.option(
     "--scale",
     type=float,
-    help="ros, gazebo: metres per arena unit, 1e-06 to 1000 (default from the unit; 1 px = 1 cm).",
+    help="ros, gazebo, irsim: metres per arena unit, 1e-06 to 1000 (default from the unit; 1 px = 1 cm).",
 )
 @click.option("--force", is_flag=True, help="Replace files that exist already.")
 @reports_errors

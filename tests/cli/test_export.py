@@ -22,6 +22,7 @@ from tests.runtime.floors import floor_file
 SUFFIXES = {
     "ros": {".pgm", ".yaml"},
     "gazebo": {".sdf"},
+    "irsim": {".yaml"},
     "movingai": {".map", ".scen"},
     "json": {".json"},
     "svg": {".svg"},
@@ -183,7 +184,8 @@ def test_a_hostile_file_name_gives_files_that_parse(factory_run, tmp_path, fmt):
         if name.endswith((".sdf", ".svg")):
             ET.fromstring(data)  # well-formed XML
         elif name.endswith(".yaml"):
-            assert yaml.safe_load(data)["image"] in written
+            document = yaml.safe_load(data)
+            assert document["image"] in written if fmt == "ros" else document["obstacle"]
         elif name.endswith(".scen"):
             problem = data.decode("utf-8").splitlines()[1].split("\t")
             assert len(problem) == 9 and problem[1] in written

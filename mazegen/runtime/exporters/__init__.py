@@ -14,6 +14,7 @@ from mazegen.errors import MazeError
 from mazegen.runtime.documents.scenario import dumps
 from mazegen.runtime.exporters.floor import ExportOptions, Floor
 from mazegen.runtime.exporters.gazebo import gazebo_files
+from mazegen.runtime.exporters.irsim import irsim_files
 from mazegen.runtime.exporters.movingai import movingai_files
 from mazegen.runtime.exporters.ros import ros_files
 from mazegen.runtime.reports.render import scenario_png, scenario_svg
@@ -42,6 +43,7 @@ def png_files(floor: Floor, options: ExportOptions) -> Files:
 FORMATS: dict[str, Callable[[Floor, ExportOptions], Files]] = {
     "ros": ros_files,
     "gazebo": gazebo_files,
+    "irsim": irsim_files,
     "movingai": movingai_files,
     "json": json_files,
     "svg": svg_files,
@@ -52,6 +54,7 @@ FORMATS: dict[str, Callable[[Floor, ExportOptions], Files]] = {
 FORMAT_OPTIONS: dict[str, tuple[str, ...]] = {
     "ros": ("scale", "cell"),
     "gazebo": ("scale",),
+    "irsim": ("scale",),
     "movingai": ("cell",),
     "json": (),
     "svg": (),

@@ -57,6 +57,30 @@ def safe_name(text: str) -> str:
     return _UNSAFE.sub("_", text)
 
 
+_RIGHT_ANGLE = 1e-3
+"""Largest |cos| between neighbouring edges of a rectangular part (rounded vertices are not exact)."""
+
+
+def yaml_number(value: float) -> str:
+    """A YAML number: at most nine decimals, no ``-0.0``."""
+    return repr(round(value, 9) + 0.0)
+
+
+def rectangle_of(corners: np.ndarray) -> tuple[tuple[float, float], float, float, float] | None:
+    """Centre, length, width and yaw of a four-cornered part if it is a rectangle, else None."""
+    if len(corners) != 4:
+        return None
+    edges = np.roll(corners, -1, axis=0) - corners
+    lengths = np.hypot(edges[:, 0], edges[:, 1])
+    if lengths.min() <= 0:
+        return None
+    cosines = np.abs(np.sum(edges * np.roll(edges, -1, axis=0), axis=1)) / (lengths * np.roll(lengths, -1))
+    if cosines.max() > _RIGHT_ANGLE:
+        return None
+    cx, cy = corners.mean(axis=0)
+    return (float(cx), float(cy)), float(lengths[0]), float(lengths[1]), math.atan2(edges[0, 1], edges[0, 0])
+
+
 @dataclass(frozen=True)
 class ExportOptions:
     """Settings of an export that are not in the scenario, checked as they are made.

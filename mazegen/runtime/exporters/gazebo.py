@@ -19,7 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from mazegen.runtime.exporters.floor import ExportOptions, Floor, safe_name
+from mazegen.runtime.exporters.floor import ExportOptions, Floor, rectangle_of, safe_name
 from mazegen.runtime.reports.render import rgb
 
 SDF_VERSION = "1.6"
@@ -32,8 +32,6 @@ MARKER_RADIUS = 0.05
 _ORIGIN = "0 0 0 0 0 0"
 _START = "0.17 0.63 0.17 1"
 _GOAL = "0.84 0.15 0.16 1"
-_RIGHT_ANGLE = 1e-3
-"""Largest |cos| between neighbouring edges of a part drawn as a box (rounded vertices are not exact)."""
 
 
 def _text(value: float) -> str:
@@ -106,21 +104,6 @@ def _plane(geometry: ET.Element, size: Sequence[float]) -> None:
     _child(shape, "size", _numbers(*size))
 
 
-def _rectangle(corners: np.ndarray) -> tuple[tuple[float, float], float, float, float] | None:
-    """Centre, length, width and yaw of a four-cornered part if it is a rectangle, else None."""
-    if len(corners) != 4:
-        return None
-    edges = np.roll(corners, -1, axis=0) - corners
-    lengths = np.hypot(edges[:, 0], edges[:, 1])
-    if lengths.min() <= 0:
-        return None
-    cosines = np.abs(np.sum(edges * np.roll(edges, -1, axis=0), axis=1)) / (lengths * np.roll(lengths, -1))
-    if cosines.max() > _RIGHT_ANGLE:
-        return None
-    cx, cy = corners.mean(axis=0)
-    return (float(cx), float(cy)), float(lengths[0]), float(lengths[1]), math.atan2(edges[0, 1], edges[0, 0])
-
-
 def _element_model(world: ET.Element, name: str, element: dict[str, Any], metres: float) -> None:
     """A static model of one element: its pose, then each part in the element's own frame."""
     x, y = float(element["x"]) * metres, float(element["y"]) * metres
@@ -135,7 +118,7 @@ def _element_model(world: ET.Element, name: str, element: dict[str, Any], metres
     turn = np.array([[math.cos(yaw), math.sin(yaw)], [-math.sin(yaw), math.cos(yaw)]])
     for k, part in enumerate(element["parts"]):
         local = (np.asarray(part, dtype=np.float64) * metres - (x, y)) @ turn.T
-        rectangle = _rectangle(local)
+        rectangle = rectangle_of(local)
         if rectangle is not None:
             centre, length, width, angle = rectangle
             _box(link, f"part_{k}", centre, (length, width, height), angle, colour)

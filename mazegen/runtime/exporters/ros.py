@@ -14,18 +14,13 @@ import json
 
 import numpy as np
 
-from mazegen.runtime.exporters.floor import ExportOptions, Floor, safe_name
+from mazegen.runtime.exporters.floor import ExportOptions, Floor, safe_name, yaml_number
 
 OCCUPIED = 0
 FREE = 254
 OCCUPIED_THRESH = 0.65
 FREE_THRESH = 0.196
 """Below 50/255 = 0.19608, the occupancy an unknown (205) pixel reads as."""
-
-
-def _number(value: float) -> str:
-    """A YAML number: at most nine decimals, no ``-0.0``."""
-    return repr(round(value, 9) + 0.0)
 
 
 def map_image(occupied: np.ndarray) -> bytes:
@@ -54,17 +49,17 @@ def ros_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     resolution = grid.cell * metres
     image = f"{floor.name}.pgm"
     arena = floor.arena
-    start, goal = ([_number(v * metres) for v in arena[key]] for key in ("start", "goal"))
+    start, goal = ([yaml_number(v * metres) for v in arena[key]] for key in ("start", "goal"))
     source = json.dumps(safe_name(floor.source.name))
     lines = [
         f"# MazeGen scenario {json.dumps(floor.document.get('scenario'))}, {source}:",
-        f"# {grid.cols} x {grid.rows} cells of {_number(resolution)} m, framed by one occupied cell",
+        f"# {grid.cols} x {grid.rows} cells of {yaml_number(resolution)} m, framed by one occupied cell",
         f"# start [{', '.join(start)}], goal [{', '.join(goal)}], "
-        f"robot radius {_number(arena.get('robot_radius', 0.0) * metres)} (metres, map frame)",
+        f"robot radius {yaml_number(arena.get('robot_radius', 0.0) * metres)} (metres, map frame)",
         f"image: {json.dumps(image)}",
         "mode: trinary",
-        f"resolution: {_number(resolution)}",
-        f"origin: [{_number(-resolution)}, {_number(-resolution)}, 0.0]",
+        f"resolution: {yaml_number(resolution)}",
+        f"origin: [{yaml_number(-resolution)}, {yaml_number(-resolution)}, 0.0]",
         "negate: 0",
         f"occupied_thresh: {OCCUPIED_THRESH}",
         f"free_thresh: {FREE_THRESH}",
