@@ -187,6 +187,19 @@ def make_children(
         out_codons: ``int32[len(parents), L]``, C-contiguous, overwritten.
         out_genes: ``uint16[len(parents), K, 5]``, C-contiguous, overwritten.
     """
+    cross(codons, genes, parents, crossover, out_codons, out_genes)
+    mutate(mutation, out_codons, out_genes)
+
+
+def cross(
+    codons: np.ndarray,
+    genes: np.ndarray,
+    parents: np.ndarray,
+    crossover: CrossoverDraws,
+    out_codons: np.ndarray,
+    out_genes: np.ndarray,
+) -> None:
+    """The crossover half of :func:`make_children`: children not yet mutated."""
     children, row = parents.shape[0], genes.shape[1] * PLACEMENT_GENES
     flat_genes = genes.reshape(genes.shape[0], row)
     flat_out = out_genes.reshape(children, row)
@@ -194,8 +207,12 @@ def make_children(
         codons, flat_genes, parents, crossover.crossing, crossover.codon_cut,
         crossover.gene_cut * PLACEMENT_GENES, out_codons, flat_out,
     )  # fmt: skip
-    out_codons.reshape(-1)[mutation.codon_hits] = mutation.codon_values
-    flat_out.reshape(-1)[mutation.gene_hits] = mutation.gene_values
+
+
+def mutate(mutation: MutationDraws, codons: np.ndarray, genes: np.ndarray) -> None:
+    """Write the new values of ``mutation`` into C-contiguous ``codons`` and ``genes``, in place."""
+    codons.reshape(-1)[mutation.codon_hits] = mutation.codon_values
+    genes.reshape(-1)[mutation.gene_hits] = mutation.gene_values
 
 
 @njit(cache=True, parallel=True)

@@ -17,6 +17,7 @@ from mazegen.runtime.engine.bnf import Grammar, read_bnf
 from mazegen.runtime.engine.compiled_grammar import CompiledGrammar, compile_grammar
 from mazegen.runtime.engine.mapping import NUMBERS_PER_ELEMENT, PopulationMap, map_population
 from mazegen.runtime.engine.population import PLACEMENT_GENES, Population, Ranges, decode
+from mazegen.runtime.engine.used_operators import Usage, usage_of
 from mazegen.runtime.geometry.elements import ElementTable
 from mazegen.spec import Spec
 
@@ -128,6 +129,7 @@ class Workspace:
                 np.empty(capacity, np.int32),
                 np.empty((capacity, slots), np.int32),
                 np.empty((capacity, width, NUMBERS_PER_ELEMENT), np.float64),
+                np.empty((capacity, slots), np.int32),
             )
             self._params = np.empty((capacity, slots, PLACEMENT_GENES))
         view = PopulationMap(*(array[:rows] for array in vars(kept).values()))
@@ -186,6 +188,19 @@ class Problem:
             out=out,
         )
         return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params)
+
+    def usage(self, codons: np.ndarray) -> Usage:
+        """How much of each genome of ``codons`` its mapping reads (for the operators within it)."""
+        evolution = self.spec.evolution
+        mapped = map_population(
+            self.compiled,
+            codons,
+            wraps=evolution.wraps,
+            consume=evolution.consume,
+            max_elements=self.slots,
+            numbers=False,
+        )
+        return usage_of(mapped, codons.shape[1])
 
     def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Fitness and per-term values of a decoded population.
