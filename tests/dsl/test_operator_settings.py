@@ -18,7 +18,11 @@ from tests.dsl.test_errors import spec
         ("crossover onepoint within used 0.8", "onepoint within used", Evolution.mutation_operator),
         ("crossover onepoint 0.8", "onepoint within used", Evolution.mutation_operator),
         ("crossover variable 0.8\n mutation within genome 0.1", "variable within used", "within genome"),
-        ("crossover onepoint within genome 0.8 mutation within used 0.1", "onepoint within genome", "within used"),
+        (
+            "crossover onepoint within genome 0.8 mutation within used 0.1",
+            "onepoint within genome",
+            "within used",
+        ),
         ("crossover 0.8", Evolution.crossover_operator, Evolution.mutation_operator),
     ],
 )

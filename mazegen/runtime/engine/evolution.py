@@ -122,28 +122,47 @@ def breed(
         parents = ops.tournament_parents(rng, fitness, settings.tournament, count)
     else:
         parents = ops.truncation_parents(rng, fitness, settings.truncation, count)
-    length, slots = codons.shape[1], genes.shape[1]
     out_codons[: elites.size] = codons[elites]
     out_genes[: elites.size] = genes[elites]
     children = (out_codons[elites.size :], out_genes[elites.size :])
-    used_codons = settings.crossover_operator != "onepoint within genome"
-    if usage is None and (used_codons or settings.mutation_operator == "within used"):
+    make_children(rng, codons, genes, parents, settings, children, usage)
+
+
+def make_children(
+    rng: np.random.Generator,
+    codons: np.ndarray,
+    genes: np.ndarray,
+    parents: np.ndarray,
+    settings: Evolution,
+    out: tuple[np.ndarray, np.ndarray],
+    usage: Callable[[np.ndarray], Usage] | None = None,
+) -> None:
+    """Write the children of ``parents`` (rows of ``codons`` and ``genes``) into ``out``, one row per
+    parent: pairs crossed, then mutated, by the operators ``settings`` name.
+
+    Args:
+        usage: As in :func:`breed`.
+    """
+    length, slots, count = codons.shape[1], genes.shape[1], parents.shape[0]
+    within_used = settings.crossover_operator != "onepoint within genome"
+    if usage is None and (within_used or settings.mutation_operator == "within used"):
         raise ValueError("operators within the used codons need the usage of the genomes")
-    if used_codons:
+    if within_used:
         assert usage is not None
         used = usage(codons)
         variable = settings.crossover_operator == "variable within used"
         cuts = uo.cut_draws(rng, parents=parents, usage=used, rate=settings.crossover, variable=variable)
-        uo.splice_children(codons, genes, parents, cuts, used, children)
+        uo.splice_children(codons, genes, parents, cuts, used, out)
     else:
         crossover = ops.crossover_draws(rng, count, length, slots, settings.crossover)
     if settings.mutation_operator == "within used":
         assert usage is not None
-        if not used_codons:
-            ops.cross(codons, genes, parents, crossover, *children)
+        if not within_used:
+            ops.cross(codons, genes, parents, crossover, *out)
+        child_usage = usage(out[0])  # PonyGE2 maps a crossed child before it mutates it
         mutation = uo.used_mutation_draws(
             rng,
-            usage=usage(children[0]),
+            usage=child_usage,
             length=length,
             slots=slots,
             rate=settings.mutation,
@@ -151,9 +170,9 @@ def breed(
         )
     else:  # drawn before MazeGen's first crossover is applied, as they always were
         mutation = ops.mutation_draws(rng, count, length, slots, settings.mutation, settings.codon_max)
-        if not used_codons:
-            ops.cross(codons, genes, parents, crossover, *children)
-    ops.mutate(mutation, *children)
+        if not within_used:
+            ops.cross(codons, genes, parents, crossover, *out)
+    ops.mutate(mutation, *out)
 
 
 def generation_stats(

@@ -132,7 +132,10 @@ def _splice_pairs(
         cut_a, cut_b, rows_a, rows_b = length, length, slots, slots  # a pair that does not cross
         if crossing[p]:
             cut_a, cut_b = first_cut[p], second_cut[p]
-            rows_a, rows_b = _elements_within(element_codons[a], cut_a), _elements_within(element_codons[b], cut_b)
+            rows_a, rows_b = (
+                _elements_within(element_codons[a], cut_a),
+                _elements_within(element_codons[b], cut_b),
+            )
         _splice(codons, a, b, cut_a, cut_b, out_codons, 2 * p)
         _splice(codons, b, a, cut_b, cut_a, out_codons, 2 * p + 1)
         _splice(genes, a, b, rows_a * PLACEMENT_GENES, rows_b * PLACEMENT_GENES, out_genes, 2 * p)
