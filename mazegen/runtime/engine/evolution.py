@@ -149,9 +149,10 @@ def make_children(
         raise ValueError("operators within the used codons need the usage of the genomes")
     if within_used:
         assert usage is not None
-        used = usage(codons)
+        rows, each = np.unique(parents, return_inverse=True)  # parents repeat: map each once
+        used = usage(codons[rows]).take(each)
         variable = settings.crossover_operator == "variable within used"
-        cuts = uo.cut_draws(rng, parents=parents, usage=used, rate=settings.crossover, variable=variable)
+        cuts = uo.cut_draws(rng, parents=used, rate=settings.crossover, variable=variable)
         uo.splice_children(codons, genes, parents, cuts, used, out)
     else:
         crossover = ops.crossover_draws(rng, count, length, slots, settings.crossover)

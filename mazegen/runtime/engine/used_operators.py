@@ -48,6 +48,10 @@ class Usage:
     rows: np.ndarray
     element_codons: np.ndarray
 
+    def take(self, indices: np.ndarray) -> Usage:
+        """The usage of rows ``indices``, in that order."""
+        return Usage(self.codons[indices], self.rows[indices], self.element_codons[indices])
+
 
 def usage_of(mapped: PopulationMap, length: int) -> Usage:
     """The :class:`Usage` of genomes of width ``length`` from their mapping."""
@@ -74,16 +78,17 @@ class CutDraws:
     second_cut: np.ndarray
 
 
-def cut_draws(
-    rng: np.random.Generator, *, parents: np.ndarray, usage: Usage, rate: float, variable: bool
-) -> CutDraws:
-    """Draw the crossover of ``parents`` taken two by two (an odd last one is copied).
+def cut_draws(rng: np.random.Generator, *, parents: Usage, rate: float, variable: bool) -> CutDraws:
+    """Draw the crossover of parents taken two by two (an odd last one is copied).
 
     Each pair crosses with probability ``rate``; cuts are uniform within the used codons (at least
     1, where an individual used none), as PonyGE2's ``randint(1, used)``.
+
+    Args:
+        parents: The usage of each parent, in the order they pair.
     """
-    pairs = parents.shape[0] // 2
-    used = np.maximum(usage.codons[parents[: 2 * pairs]], 1)
+    pairs = parents.codons.shape[0] // 2
+    used = np.maximum(parents.codons[: 2 * pairs], 1)
     first_used, second_used = used[0::2], used[1::2]
     crossing = rng.random(pairs) < rate
     if variable:
@@ -104,8 +109,8 @@ def splice_children(
     """Write the crossed children of ``parents`` into ``out`` (codons, genes), one row per parent.
 
     Row ``2i`` is parent ``2i``'s head up to its cut, then parent ``2i+1``'s tail from its cut;
-    row ``2i+1`` the other way round; pairs that do not cross are copied. ``usage`` is the
-    population's, for the element slots each head keeps.
+    row ``2i+1`` the other way round; pairs that do not cross are copied. ``usage`` is each
+    parent's (aligned with ``parents``), for the element slots each head keeps.
     """
     out_codons, out_genes = out
     children, row = parents.shape[0], genes.shape[1] * PLACEMENT_GENES
@@ -133,8 +138,8 @@ def _splice_pairs(
         if crossing[p]:
             cut_a, cut_b = first_cut[p], second_cut[p]
             rows_a, rows_b = (
-                _elements_within(element_codons[a], cut_a),
-                _elements_within(element_codons[b], cut_b),
+                _elements_within(element_codons[2 * p], cut_a),
+                _elements_within(element_codons[2 * p + 1], cut_b),
             )
         _splice(codons, a, b, cut_a, cut_b, out_codons, 2 * p)
         _splice(codons, b, a, cut_b, cut_a, out_codons, 2 * p + 1)
