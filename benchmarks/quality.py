@@ -200,7 +200,8 @@ def main() -> None:
             if task.fitness:  # a copy with one more term (the spec imports bundled libraries only)
                 source = Path(temp) / f"{name}.maze"
                 text = task.spec.read_text(encoding="utf-8")
-                source.write_text(text.replace("fitness {", f"fitness {{\n    {task.fitness}", 1), encoding="utf-8")
+                added = text.replace("fitness {", f"fitness {{\n{task.fitness}", 1)
+                source.write_text(added, encoding="utf-8")
             spec = mazegen.load(source).with_evolution(**task.settings)
             rows += race_mazegen(name, task, spec, args.seeds, Path(temp) / name)
             if name.startswith("figure1") and not args.no_alogos:
