@@ -348,7 +348,7 @@ class Evolution:
     tournament: int = 3
     crossover: float = 0.9
     mutation: float = 0.05
-    crossover_operator: str = "onepoint within genome"
+    crossover_operator: str = "variable within used"
     mutation_operator: str = "within genome"
     elitism: int = 1
     runs: int = 1

@@ -195,7 +195,7 @@ def test_settings_words_read_back_as_written(write_spec):
     ]
     settings = [
         "population 60", "generations 2", "genome 16", "selection tournament 4",
-        "crossover variable within used 0.8", "mutation within used 0.1", "elitism 2", "runs 3", "seed 7",
+        "crossover onepoint within genome 0.8", "mutation within genome 0.1", "elitism 2", "runs 3", "seed 7",
         "codons 0..1000", "wraps 1", "consume lazy", "best 5",
     ]  # fmt: skip
     spec = mazegen.load(
