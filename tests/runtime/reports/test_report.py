@@ -151,9 +151,9 @@ def test_headless_chromium_shows_the_gallery(factory_run, tmp_path):
     path = (r > 200) & (g < 80) & (b > 90) & (b < 170)
     rows = np.nonzero(path.any(axis=1))[0]
     assert path.sum() > 500 and rows.min() > 300
-    # The start (green) of every drawing in view.
+    # The start (green) of every drawing in view, and its legend's dot (paths may cross the marker).
     start = (abs(r - 44) < 30) & (abs(g - 160) < 30) & (abs(b - 44) < 30)
-    assert start.sum() > 100
+    assert start.sum() > 60
 
 
 def test_run_times_come_from_timing_csv_when_stats_have_none(factory_run, tmp_path):
