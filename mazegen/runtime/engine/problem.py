@@ -173,12 +173,20 @@ class Problem:
         self, codons: np.ndarray, genes: np.ndarray, workspace: Workspace | None = None
     ) -> tuple[PopulationMap, Population]:
         """Map structure codons and decode placements (into ``workspace`` when given)."""
-        evolution = self.spec.evolution
         numbers = self.spec.scenario.placement is not None  # only grammar placement reads them
         out, params = (
             (None, None) if workspace is None else workspace.arrays(codons.shape[0], self.slots, numbers)
         )
-        mapped = map_population(
+        mapped = self._map(codons, numbers, out)
+        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params)
+
+    def usage(self, codons: np.ndarray) -> Usage:
+        """How much of each genome of ``codons`` its mapping reads (for the operators within it)."""
+        return usage_of(self._map(codons, False, None), codons.shape[1])
+
+    def _map(self, codons: np.ndarray, numbers: bool, out: PopulationMap | None) -> PopulationMap:
+        evolution = self.spec.evolution
+        return map_population(
             self.compiled,
             codons,
             wraps=evolution.wraps,
@@ -187,20 +195,6 @@ class Problem:
             numbers=numbers,
             out=out,
         )
-        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params)
-
-    def usage(self, codons: np.ndarray) -> Usage:
-        """How much of each genome of ``codons`` its mapping reads (for the operators within it)."""
-        evolution = self.spec.evolution
-        mapped = map_population(
-            self.compiled,
-            codons,
-            wraps=evolution.wraps,
-            consume=evolution.consume,
-            max_elements=self.slots,
-            numbers=False,
-        )
-        return usage_of(mapped, codons.shape[1])
 
     def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Fitness and per-term values of a decoded population.
