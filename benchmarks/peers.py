@@ -96,11 +96,11 @@ def timed(action: Callable[[], Any]) -> tuple[float, Any]:
     return time.perf_counter() - started, result
 
 
-def run_alogos(grammar: alogos.Grammar, population: int, generations: int, seed: int) -> dict:
-    """One alogos GE run; returns its best fitness and how many mappings and scorings it did."""
-    random.seed(seed)  # alogos draws from the global random module
-    objective = FigureCount()
-    ea = alogos.EvolutionaryAlgorithm(
+def alogos_ea(
+    grammar: alogos.Grammar, objective: FigureCount, population: int, generations: int
+) -> alogos.EvolutionaryAlgorithm:
+    """alogos' GE on the Figure 1 task with the settings above (``benchmarks/quality.py`` steps it)."""
+    return alogos.EvolutionaryAlgorithm(
         grammar,
         objective,
         "max",
@@ -121,6 +121,13 @@ def run_alogos(grammar: alogos.Grammar, population: int, generations: int, seed:
         phe_to_fit_cache_lookup_on=False,
         database_on=False,
     )
+
+
+def run_alogos(grammar: alogos.Grammar, population: int, generations: int, seed: int) -> dict:
+    """One alogos GE run; returns its best fitness and how many mappings and scorings it did."""
+    random.seed(seed)  # alogos draws from the global random module
+    objective = FigureCount()
+    ea = alogos_ea(grammar, objective, population, generations)
     best = ea.run()
     return {
         "best": best.fitness,

@@ -321,13 +321,27 @@ def out_of_bounds(key: str, value: float) -> str | None:
     return None if check(value) else f"must be {bounds}"
 
 
+CROSSOVER_OPERATORS = ("onepoint within used", "variable within used", "onepoint within genome")
+"""Crossover operators as the evolution block writes them: PonyGE2's fixed and variable one-point
+crossover with cuts within each parent's used codons, and one cut anywhere in the genome (with the
+placement rows cut at a point of their own, MazeGen's first operator)."""
+
+MUTATION_OPERATORS = ("within used", "within genome")
+"""Where int-flip mutation applies: the used codons (and the placement rows of the elements the
+individual has), as PonyGE2 does, or every codon and placement gene."""
+
+FIRST_OPERATORS = {"crossover_operator": "onepoint within genome", "mutation_operator": "within genome"}
+"""The operators of MazeGen before they were a setting: what a ``spec.json`` without them ran."""
+
+
 @dataclass(frozen=True)
 class Evolution:
-    """Evolution settings (defaults follow the paper's Table 1).
+    """Evolution settings (defaults follow the paper's Table 1, operators measured best in
+    ``benchmarks/quality.py``).
 
     Raises:
         ValueError: for a setting outside its bounds (:data:`EVOLUTION_BOUNDS`) or an
-            unknown selection or consume mode.
+            unknown selection, operator or consume mode.
     """
 
     population: int = 1000
@@ -338,6 +352,8 @@ class Evolution:
     tournament: int = 3
     crossover: float = 0.9
     mutation: float = 0.05
+    crossover_operator: str = "variable within used"
+    mutation_operator: str = "within genome"
     elitism: int = 1
     runs: int = 1
     seed: int = 1
@@ -361,6 +377,10 @@ class Evolution:
             raise ValueError(f"selection must be truncation or tournament, got {self.selection!r}")
         if self.consume not in ("eager", "lazy"):
             raise ValueError(f"consume must be eager or lazy, got {self.consume!r}")
+        if self.crossover_operator not in CROSSOVER_OPERATORS:
+            raise ValueError(f"crossover operator must be one of {CROSSOVER_OPERATORS}")
+        if self.mutation_operator not in MUTATION_OPERATORS:
+            raise ValueError(f"mutation operator must be one of {MUTATION_OPERATORS}")
 
 
 @dataclass(frozen=True)
@@ -485,7 +505,7 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         arena,
         scenario,
         fitness,
-        Evolution(**data["evolution"]),
+        Evolution(**{**FIRST_OPERATORS, **data["evolution"]}),
         _robot_from_dict(data.get("robot")),
     )
 

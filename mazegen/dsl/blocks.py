@@ -9,6 +9,7 @@ from mazegen.dsl.bounds import MAX_LENGTH, MAX_SLOTS, MAX_TARGET, MAX_TERMINALS,
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
 from mazegen.dsl.robot import drive_controllers
 from mazegen.spec import (
+    CROSSOVER_OPERATORS,
     DIFFICULTY_LEVELS,
     MAX_CODONS,
     Arena,
@@ -263,6 +264,20 @@ def _bounded(node: Any, key: str, value: Any, label: str) -> Any:
     return value
 
 
+def _operator(key: str, operator: Any) -> str:
+    """The crossover or mutation operator as ``spec.json`` names it: ``onepoint within used``."""
+    scope = f"within {operator.scope or 'used'}"
+    if key == "mutation":
+        if operator.kind:
+            fail(operator, f"mutation is int-flip, not {operator.kind}: write mutation {scope} RATE")
+        return scope
+    if not operator.kind:
+        fail(operator, f"say which crossover: crossover onepoint {scope} RATE or crossover variable RATE")
+    if f"{operator.kind} {scope}" not in CROSSOVER_OPERATORS:
+        fail(operator, f"{operator.kind} crossover cuts within the used codons only, not {scope}")
+    return f"{operator.kind} {scope}"
+
+
 def convert_evolution(decl: Any | None) -> Evolution:
     """Check the ``evolution`` block against the bounds each setting must respect."""
     if decl is None:
@@ -275,6 +290,8 @@ def convert_evolution(decl: Any | None) -> Evolution:
     for key in ("crossover", "mutation"):
         if key in props:
             values[key] = _bounded(props[key], key, props[key].value, f"{key} rate")
+            if props[key].operator is not None:
+                values[f"{key}_operator"] = _operator(key, props[key].operator)
     selection = props.get("SelectionSetting")
     if selection is not None:
         if selection.tournament is not None:

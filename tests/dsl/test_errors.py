@@ -689,6 +689,30 @@ BAD_SPECS = [
         "4:1",
         "arena 'floor' is in px with no robot radius: give it one ('robot radius 25')",
     ),
+    (
+        "mutation is int-flip only",
+        spec(tail="evolution { mutation variable within used 0.05 }\n"),
+        "4:22",
+        "mutation is int-flip, not variable: write mutation within used RATE",
+    ),
+    (
+        "crossover needs its kind",
+        spec(tail="evolution {\n  crossover within genome 0.9 }\n"),
+        "5:13",
+        "say which crossover: crossover onepoint within genome RATE",
+    ),
+    (
+        "variable crossover cuts within the used codons",
+        spec(tail="evolution { crossover variable within genome 0.9 }\n"),
+        "4:23",
+        "variable crossover cuts within the used codons only, not within genome",
+    ),
+    (
+        "syntax: an unknown operator scope",
+        spec(tail="evolution { crossover onepoint within tail 0.9 }\n"),
+        "4:39",
+        "expected 'used' or 'genome'",
+    ),
 ]
 
 

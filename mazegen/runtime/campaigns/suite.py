@@ -29,7 +29,7 @@ from mazegen.fileio import write_atomic
 from mazegen.runtime.documents.best import row_document
 from mazegen.runtime.documents.scenario import dumps
 from mazegen.runtime.engine import operators as ops
-from mazegen.runtime.engine.evolution import GenerationStats, generation_stats
+from mazegen.runtime.engine.evolution import GenerationStats, generation_stats, make_children
 from mazegen.runtime.engine.population import PLACEMENT_GENES
 from mazegen.runtime.engine.problem import Evaluation, Problem
 from mazegen.runtime.navigation.measures import survey_of
@@ -166,9 +166,9 @@ def fill_archive(
         started = time.perf_counter()
         if iteration and archive.filled.size:
             parents = archive.filled[rng.integers(0, archive.filled.size, size=batch)]
-            crossover = ops.crossover_draws(rng, batch, genome, slots, settings.crossover)
-            mutation = ops.mutation_draws(rng, batch, genome, slots, settings.mutation, settings.codon_max)
-            ops.make_children(archive.codons, archive.genes, parents, crossover, mutation, codons, genes)
+            make_children(
+                rng, archive.codons, archive.genes, parents, settings, (codons, genes), problem.usage
+            )
         elif iteration:  # nothing solvable yet: start afresh
             codons = ops.random_codons(rng, batch, genome, settings.codon_max)
             genes = ops.random_genes(rng, batch, slots)

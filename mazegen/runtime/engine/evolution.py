@@ -10,9 +10,11 @@ from typing import Any
 import numpy as np
 
 from mazegen.runtime.engine import operators as ops
+from mazegen.runtime.engine import used_operators as uo
 from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine.problem import Problem, Workspace
 from mazegen.runtime.engine.threads import threads_for
+from mazegen.runtime.engine.used_operators import Usage
 from mazegen.spec import Evolution
 
 EVALUATION_CHUNK = 8192
@@ -99,6 +101,7 @@ def breed(
     fitness: np.ndarray,
     settings: Evolution,
     out: tuple[np.ndarray, np.ndarray],
+    usage: Callable[[np.ndarray], Usage] | None = None,
 ) -> None:
     """Write the next generation into ``out``: elites unchanged, then selected, crossed and mutated children.
 
@@ -109,6 +112,8 @@ def breed(
         fitness: This generation's fitness.
         settings: Selection, crossover and mutation settings.
         out: Codon and gene arrays shaped like ``codons`` and ``genes``, overwritten.
+        usage: The :class:`Usage` of structure codons (their mapping): needed by the operators
+            that work within the used codons.
     """
     out_codons, out_genes = out
     elites = ops.ranking(fitness, settings.elitism)
@@ -117,14 +122,58 @@ def breed(
         parents = ops.tournament_parents(rng, fitness, settings.tournament, count)
     else:
         parents = ops.truncation_parents(rng, fitness, settings.truncation, count)
-    length, slots = codons.shape[1], genes.shape[1]
-    crossover = ops.crossover_draws(rng, count, length, slots, settings.crossover)
-    mutation = ops.mutation_draws(rng, count, length, slots, settings.mutation, settings.codon_max)
     out_codons[: elites.size] = codons[elites]
     out_genes[: elites.size] = genes[elites]
-    ops.make_children(
-        codons, genes, parents, crossover, mutation, out_codons[elites.size :], out_genes[elites.size :]
-    )
+    children = (out_codons[elites.size :], out_genes[elites.size :])
+    make_children(rng, codons, genes, parents, settings, children, usage)
+
+
+def make_children(
+    rng: np.random.Generator,
+    codons: np.ndarray,
+    genes: np.ndarray,
+    parents: np.ndarray,
+    settings: Evolution,
+    out: tuple[np.ndarray, np.ndarray],
+    usage: Callable[[np.ndarray], Usage] | None = None,
+) -> None:
+    """Write the children of ``parents`` (rows of ``codons`` and ``genes``) into ``out``, one row per
+    parent: pairs crossed, then mutated, by the operators ``settings`` name.
+
+    Args:
+        usage: As in :func:`breed`.
+    """
+    length, slots, count = codons.shape[1], genes.shape[1], parents.shape[0]
+    within_used = settings.crossover_operator != "onepoint within genome"
+    if usage is None and (within_used or settings.mutation_operator == "within used"):
+        raise ValueError("operators within the used codons need the usage of the genomes")
+    if within_used:
+        assert usage is not None
+        rows, each = np.unique(parents, return_inverse=True)  # parents repeat: map each once
+        used = usage(codons[rows]).take(each)
+        variable = settings.crossover_operator == "variable within used"
+        cuts = uo.cut_draws(rng, parents=used, rate=settings.crossover, variable=variable)
+        uo.splice_children(codons, genes, parents, cuts, used, out)
+    else:
+        crossover = ops.crossover_draws(rng, count, length, slots, settings.crossover)
+    if settings.mutation_operator == "within used":
+        assert usage is not None
+        if not within_used:
+            ops.cross(codons, genes, parents, crossover, *out)
+        child_usage = usage(out[0])  # PonyGE2 maps a crossed child before it mutates it
+        mutation = uo.used_mutation_draws(
+            rng,
+            usage=child_usage,
+            length=length,
+            slots=slots,
+            rate=settings.mutation,
+            codon_max=settings.codon_max,
+        )
+    else:  # drawn before MazeGen's first crossover is applied, as they always were
+        mutation = ops.mutation_draws(rng, count, length, slots, settings.mutation, settings.codon_max)
+        if not within_used:
+            ops.cross(codons, genes, parents, crossover, *out)
+    ops.mutate(mutation, *out)
 
 
 def generation_stats(
@@ -209,7 +258,7 @@ def _evolve(
     spare = (np.empty_like(codons), np.empty_like(genes))  # the next generation is bred into these
     for generation in range(len(stats), settings.generations + 1):
         started = perf_counter()
-        breed(rng, codons, genes, fitness, settings, spare)
+        breed(rng, codons, genes, fitness, settings, spare, problem.usage)
         spare, (codons, genes) = (codons, genes), spare
         fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache, workspace)
         stats.append(generation_stats(generation, fitness, evaluations, unique, perf_counter() - started))

@@ -56,6 +56,8 @@ from mazegen.runtime.engine.compiled_grammar import (
 )
 
 NUMBERS_PER_ELEMENT = 4
+NO_ELEMENT = np.iinfo(np.int32).max
+"""``element_codons`` of a slot without an element: beyond every cut."""
 _TOKEN = re.compile(r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)|(?P<number>-?[0-9]+(?:\.[0-9]+)?)")
 
 
@@ -87,6 +89,9 @@ class PopulationMap:
         numbers: ``float64[N, max_elements, 4]``: the numbers that follow each
             element in the phenotype (the first four), NaN padded; ``[N, 0, 4]``
             when the numbers were not asked for.
+        element_codons: ``int32[N, max_elements]``: codons read when each element's
+            name was completed, :data:`NO_ELEMENT` padded (all of an invalid individual's
+            slots): the genome prefix an element comes from, which crossover keeps whole.
     """
 
     valid: np.ndarray
@@ -94,6 +99,7 @@ class PopulationMap:
     n_elements: np.ndarray
     element_ids: np.ndarray
     numbers: np.ndarray
+    element_codons: np.ndarray
 
 
 def _check_options(wraps: int, consume: str, max_depth: int) -> None:
@@ -234,9 +240,17 @@ def map_population(
         ((n,), np.int32),
         ((n, max_elements), np.int32),
         ((n, max_elements if numbers else 0, NUMBERS_PER_ELEMENT), np.float64),
+        ((n, max_elements), np.int32),
     ]
     result = out or PopulationMap(*(np.empty(shape, dtype) for shape, dtype in layout))
-    arrays = (result.valid, result.used_codons, result.n_elements, result.element_ids, result.numbers)
+    arrays = (
+        result.valid,
+        result.used_codons,
+        result.n_elements,
+        result.element_ids,
+        result.numbers,
+        result.element_codons,
+    )
     if any(
         a.shape != shape or a.dtype != dtype or not a.flags.c_contiguous
         for a, (shape, dtype) in zip(arrays, layout)
@@ -313,7 +327,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
         deepest = max(deepest, depth)
         if symbol < 0 and mode == IDLE and term_fast[-1 - symbol]:
             for q in range(term_emits[-1 - symbol], term_emits[-symbol]):
-                count, n_num = _emit(emits[q], out, i, count)
+                count, n_num = _emit(emits[q], out, i, count, used)
             mode, node = term_end_mode[-1 - symbol], term_end_node[-1 - symbol]
         elif symbol < 0:
             for p in range(term_chars[-1 - symbol], term_chars[-symbol]):
@@ -330,7 +344,9 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
                 if kind == DOT and mode == INT:
                     mode = POINT
                     continue
-                count, n_num = _finish(mode, node, sign * mant / scale, trie_element, out, i, count, n_num)
+                count, n_num = _finish(
+                    mode, node, sign * mant / scale, trie_element, out, i, count, n_num, used
+                )
                 mode, node, sign, mant, scale = IDLE, 0, 1.0, 0.0, 1.0
                 if kind == LETTER:
                     mode, node = NAME, trie[0, code]
@@ -361,11 +377,13 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
             break
     ok = sp == 0 and cur == cur_end and not stuck
     if ok:
-        count, n_num = _finish(mode, node, sign * mant / scale, trie_element, out, i, count, n_num)
+        count, n_num = _finish(mode, node, sign * mant / scale, trie_element, out, i, count, n_num, used)
     if not ok or count > slots:
         ok, count = False, 0
+    element_codons = out[5]
     for e in range(count, slots):
         element_ids[i, e] = -1
+        element_codons[i, e] = NO_ELEMENT
     for e in range(count, numbers.shape[1]):
         for j in range(NUMBERS_PER_ELEMENT):
             numbers[i, e, j] = np.nan
@@ -373,11 +391,11 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
 
 
 @njit(cache=True, inline="always")
-def _finish(mode, node, value, trie_element, out, i, count, n_num):  # pragma: no cover - compiled
+def _finish(mode, node, value, trie_element, out, i, count, n_num, used):  # pragma: no cover - compiled
     """Emit the token that just ended; a ``count`` beyond the slots means overflow."""
     numbers = out[4]
     if mode == NAME and node >= 0 and trie_element[node] >= 0:
-        return _emit(trie_element[node], out, i, count)
+        return _emit(trie_element[node], out, i, count, used)
     if mode >= INT and 0 < count <= numbers.shape[1] and n_num < NUMBERS_PER_ELEMENT:
         numbers[i, count - 1, n_num] = value
         return count, n_num + 1
@@ -385,11 +403,13 @@ def _finish(mode, node, value, trie_element, out, i, count, n_num):  # pragma: n
 
 
 @njit(cache=True, inline="always")
-def _emit(element, out, i, count):  # pragma: no cover - compiled
-    """Record element number ``count`` of genome ``i`` (slots past the end only count)."""
+def _emit(element, out, i, count, used):  # pragma: no cover - compiled
+    """Record element number ``count`` of genome ``i``, completed after ``used`` codons
+    (slots past the end only count)."""
     element_ids, numbers = out[3], out[4]  # numbers has 0 slots when not kept
     if count < element_ids.shape[1]:
         element_ids[i, count] = element
+        out[5][i, count] = used
     if count < numbers.shape[1]:
         for k in range(NUMBERS_PER_ELEMENT):
             numbers[i, count, k] = np.nan

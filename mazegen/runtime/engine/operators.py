@@ -2,7 +2,7 @@
 
 Genomes are two chromosomes: structure codons ``int32[N, L]`` and placement genes
 ``uint16[N, K, 5]``. Random choices are drawn from ``rng`` first, as plain arrays;
-:func:`make_children` then applies them in one parallel pass that writes straight into
+:func:`cross` then applies them in one parallel pass that writes straight into
 the next generation's arrays, so breeding a population of 50,000 copies each genome once.
 """
 
@@ -164,26 +164,24 @@ def mutation_draws(
     return MutationDraws(codon_hits, codon_values, gene_hits, gene_values)
 
 
-def make_children(
+def cross(
     codons: np.ndarray,
     genes: np.ndarray,
     parents: np.ndarray,
     crossover: CrossoverDraws,
-    mutation: MutationDraws,
     out_codons: np.ndarray,
     out_genes: np.ndarray,
 ) -> None:
-    """Write the children of ``parents`` into ``out_codons`` and ``out_genes``, one row per parent.
+    """Write the crossed children of ``parents`` into ``out_codons`` and ``out_genes``, one row per parent.
 
     Rows ``2i`` and ``2i+1`` are the children of the pair ``parents[2i], parents[2i+1]``:
-    copies of their parents, with tails swapped where the pair crosses, then mutated.
+    copies of their parents, with tails swapped where the pair crosses (:func:`mutate` follows).
 
     Args:
         codons: ``int32[N, L]`` structure codons of the population.
         genes: ``uint16[N, K, 5]`` placement genes of the population.
         parents: Row indices into the population, one per child.
         crossover: From :func:`crossover_draws` for ``len(parents)`` children.
-        mutation: From :func:`mutation_draws` for ``len(parents)`` children.
         out_codons: ``int32[len(parents), L]``, C-contiguous, overwritten.
         out_genes: ``uint16[len(parents), K, 5]``, C-contiguous, overwritten.
     """
@@ -194,8 +192,12 @@ def make_children(
         codons, flat_genes, parents, crossover.crossing, crossover.codon_cut,
         crossover.gene_cut * PLACEMENT_GENES, out_codons, flat_out,
     )  # fmt: skip
-    out_codons.reshape(-1)[mutation.codon_hits] = mutation.codon_values
-    flat_out.reshape(-1)[mutation.gene_hits] = mutation.gene_values
+
+
+def mutate(mutation: MutationDraws, codons: np.ndarray, genes: np.ndarray) -> None:
+    """Write the new values of ``mutation`` into C-contiguous ``codons`` and ``genes``, in place."""
+    codons.reshape(-1)[mutation.codon_hits] = mutation.codon_values
+    genes.reshape(-1)[mutation.gene_hits] = mutation.gene_values
 
 
 @njit(cache=True, parallel=True)

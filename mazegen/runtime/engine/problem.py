@@ -17,6 +17,7 @@ from mazegen.runtime.engine.bnf import Grammar, read_bnf
 from mazegen.runtime.engine.compiled_grammar import CompiledGrammar, compile_grammar
 from mazegen.runtime.engine.mapping import NUMBERS_PER_ELEMENT, PopulationMap, map_population
 from mazegen.runtime.engine.population import PLACEMENT_GENES, Population, Ranges, decode
+from mazegen.runtime.engine.used_operators import Usage, usage_of
 from mazegen.runtime.geometry.elements import ElementTable
 from mazegen.spec import Spec
 
@@ -128,6 +129,7 @@ class Workspace:
                 np.empty(capacity, np.int32),
                 np.empty((capacity, slots), np.int32),
                 np.empty((capacity, width, NUMBERS_PER_ELEMENT), np.float64),
+                np.empty((capacity, slots), np.int32),
             )
             self._params = np.empty((capacity, slots, PLACEMENT_GENES))
         view = PopulationMap(*(array[:rows] for array in vars(kept).values()))
@@ -177,12 +179,20 @@ class Problem:
     ) -> tuple[PopulationMap, Population]:
         """Map structure codons and decode placements (into ``workspace`` when given); ``searching``:
         for a search (see :attr:`Population.searching`)."""
-        evolution = self.spec.evolution
         numbers = self.spec.scenario.placement is not None  # only grammar placement reads them
         out, params = (
             (None, None) if workspace is None else workspace.arrays(codons.shape[0], self.slots, numbers)
         )
-        mapped = map_population(
+        mapped = self._map(codons, numbers, out)
+        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params, searching=searching)
+
+    def usage(self, codons: np.ndarray) -> Usage:
+        """How much of each genome of ``codons`` its mapping reads (for the operators within it)."""
+        return usage_of(self._map(codons, False, None), codons.shape[1])
+
+    def _map(self, codons: np.ndarray, numbers: bool, out: PopulationMap | None) -> PopulationMap:
+        evolution = self.spec.evolution
+        return map_population(
             self.compiled,
             codons,
             wraps=evolution.wraps,
@@ -191,7 +201,6 @@ class Problem:
             numbers=numbers,
             out=out,
         )
-        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params, searching=searching)
 
     def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Fitness and per-term values of a decoded population.

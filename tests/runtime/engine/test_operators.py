@@ -52,7 +52,8 @@ def children(rng, codons, genes, parents, rate, mutation, codon_max):
     flips = ops.mutation_draws(rng, count, length, slots, mutation, codon_max)
     out_codons = np.full((count, length), -1, dtype=codons.dtype)
     out_genes = np.zeros((count, slots, 5), dtype=genes.dtype)
-    ops.make_children(codons, genes, parents, crossover, flips, out_codons, out_genes)
+    ops.cross(codons, genes, parents, crossover, out_codons, out_genes)
+    ops.mutate(flips, out_codons, out_genes)
     return out_codons, out_genes
 
 

@@ -151,9 +151,9 @@ def test_headless_chromium_shows_the_gallery(factory_run, tmp_path):
     path = (r > 200) & (g < 80) & (b > 90) & (b < 170)
     rows = np.nonzero(path.any(axis=1))[0]
     assert path.sum() > 500 and rows.min() > 300
-    # The start (green) of every drawing in view.
+    # The start (green) of every drawing in view, and its legend's dot (paths may cross the marker).
     start = (abs(r - 44) < 30) & (abs(g - 160) < 30) & (abs(b - 44) < 30)
-    assert start.sum() > 100
+    assert start.sum() > 60
 
 
 def test_run_times_come_from_timing_csv_when_stats_have_none(factory_run, tmp_path):
@@ -194,9 +194,9 @@ def test_settings_words_read_back_as_written(write_spec):
         "coverage 0.1..0.3",
     ]
     settings = [
-        "population 60", "generations 2", "genome 16", "selection tournament 4", "crossover 0.8",
-        "mutation 0.1", "elitism 2", "runs 3", "seed 7", "codons 0..1000", "wraps 1", "consume lazy",
-        "best 5",
+        "population 60", "generations 2", "genome 16", "selection tournament 4",
+        "crossover onepoint within genome 0.8", "mutation within genome 0.1", "elitism 2", "runs 3", "seed 7",
+        "codons 0..1000", "wraps 1", "consume lazy", "best 5",
     ]  # fmt: skip
     spec = mazegen.load(
         write_spec(

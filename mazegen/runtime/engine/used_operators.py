@@ -1,0 +1,192 @@
+"""Crossover and mutation within the used codons, as PonyGE2 defines them (``WITHIN_USED``).
+
+One-point crossover cuts both parents at one point drawn in ``1..min(used)``; variable one-point
+crossover (PonyGE2's default) cuts each parent at its own point in ``1..used``, so that in PonyGE2
+a child's genome grows or shrinks. Genomes here are rows of a fixed width ``L``: a variable child,
+the first parent's head then the second parent's tail, is cut at ``L`` when longer, and when
+shorter the positions left over keep the first parent's codons. Those positions lie past the
+child's own genome: PonyGE2's child would be invalid (or wrap) where ours reads them, and any
+child that maps within its own genome maps exactly as PonyGE2's. A separate length per row would
+make every mapping, hash and checkpoint carry it, for children that differ only in that case.
+
+A child keeps whole elements: the element slots its head derived (the elements whose names were
+complete once the head's codons were read) take the head parent's placement rows, the next slots
+the tail parent's rows from its first element past its cut, spliced as the codons are.
+
+Int-flip mutation within the used codons replaces each of a child's used codons (all of an
+invalid child's) with probability ``rate``, and each gene of the placement rows of the child's
+elements (every row of an invalid child's). PonyGE2 maps a child before mutating it; so do we.
+An individual that is invalid counts its whole genome as used, as in PonyGE2.
+
+Draws are plain NumPy from the run's generator; the kernels are pure functions of arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit, prange
+
+from mazegen.runtime.engine.mapping import PopulationMap
+from mazegen.runtime.engine.operators import MutationDraws, hit_positions
+from mazegen.runtime.engine.population import GENE_MAX, PLACEMENT_GENES
+
+
+@dataclass(frozen=True)
+class Usage:
+    """How much of each genome its mapping reads.
+
+    Attributes:
+        codons: ``int64[N]``: codons used (at most the width ``L``), ``L`` for invalid individuals.
+        rows: ``int64[N]``: placement rows of the individual's elements, all ``K`` if invalid.
+        element_codons: ``int32[N, K]``: codons read when each element was complete, as
+            :attr:`PopulationMap.element_codons`.
+    """
+
+    codons: np.ndarray
+    rows: np.ndarray
+    element_codons: np.ndarray
+
+    def take(self, indices: np.ndarray) -> Usage:
+        """The usage of rows ``indices``, in that order."""
+        return Usage(self.codons[indices], self.rows[indices], self.element_codons[indices])
+
+
+def usage_of(mapped: PopulationMap, length: int) -> Usage:
+    """The :class:`Usage` of genomes of width ``length`` from their mapping."""
+    slots = mapped.element_ids.shape[1]
+    return Usage(
+        codons=np.where(mapped.valid, np.minimum(mapped.used_codons, length), length).astype(np.int64),
+        rows=np.where(mapped.valid, mapped.n_elements, slots).astype(np.int64),
+        element_codons=mapped.element_codons,
+    )
+
+
+@dataclass(frozen=True)
+class CutDraws:
+    """Crossover choices for consecutive pairs of parents.
+
+    Attributes:
+        crossing: ``bool[P]``: the pair crosses.
+        first_cut: ``int64[P]``: the first parent's cut, in ``1..used``.
+        second_cut: ``int64[P]``: the second parent's cut (the first's, for one-point crossover).
+    """
+
+    crossing: np.ndarray
+    first_cut: np.ndarray
+    second_cut: np.ndarray
+
+
+def cut_draws(rng: np.random.Generator, *, parents: Usage, rate: float, variable: bool) -> CutDraws:
+    """Draw the crossover of parents taken two by two (an odd last one is copied).
+
+    Each pair crosses with probability ``rate``; cuts are uniform within the used codons (at least
+    1, where an individual used none), as PonyGE2's ``randint(1, used)``.
+
+    Args:
+        parents: The usage of each parent, in the order they pair.
+    """
+    pairs = parents.codons.shape[0] // 2
+    used = np.maximum(parents.codons[: 2 * pairs], 1)
+    first_used, second_used = used[0::2], used[1::2]
+    crossing = rng.random(pairs) < rate
+    if variable:
+        first = rng.integers(1, first_used + 1)
+        return CutDraws(crossing, first, rng.integers(1, second_used + 1))
+    cut = rng.integers(1, np.minimum(first_used, second_used) + 1)
+    return CutDraws(crossing, cut, cut)
+
+
+def splice_children(
+    codons: np.ndarray,
+    genes: np.ndarray,
+    parents: np.ndarray,
+    cuts: CutDraws,
+    usage: Usage,
+    out: tuple[np.ndarray, np.ndarray],
+) -> None:
+    """Write the crossed children of ``parents`` into ``out`` (codons, genes), one row per parent.
+
+    Row ``2i`` is parent ``2i``'s head up to its cut, then parent ``2i+1``'s tail from its cut;
+    row ``2i+1`` the other way round; pairs that do not cross are copied. ``usage`` is each
+    parent's (aligned with ``parents``), for the element slots each head keeps.
+    """
+    out_codons, out_genes = out
+    children, row = parents.shape[0], genes.shape[1] * PLACEMENT_GENES
+    _splice_pairs(
+        codons,
+        genes.reshape(genes.shape[0], row),
+        parents,
+        cuts.crossing,
+        cuts.first_cut,
+        cuts.second_cut,
+        usage.element_codons,
+        out_codons,
+        out_genes.reshape(children, row),
+    )
+
+
+@njit(cache=True, parallel=True)
+def _splice_pairs(
+    codons, genes, parents, crossing, first_cut, second_cut, element_codons, out_codons, out_genes
+):  # pragma: no cover - compiled
+    children, length, slots = parents.shape[0], codons.shape[1], element_codons.shape[1]
+    for p in prange(children // 2):
+        a, b = parents[2 * p], parents[2 * p + 1]
+        cut_a, cut_b, rows_a, rows_b = length, length, slots, slots  # a pair that does not cross
+        if crossing[p]:
+            cut_a, cut_b = first_cut[p], second_cut[p]
+            rows_a, rows_b = (
+                _elements_within(element_codons[2 * p], cut_a),
+                _elements_within(element_codons[2 * p + 1], cut_b),
+            )
+        _splice(codons, a, b, cut_a, cut_b, out_codons, 2 * p)
+        _splice(codons, b, a, cut_b, cut_a, out_codons, 2 * p + 1)
+        _splice(genes, a, b, rows_a * PLACEMENT_GENES, rows_b * PLACEMENT_GENES, out_genes, 2 * p)
+        _splice(genes, b, a, rows_b * PLACEMENT_GENES, rows_a * PLACEMENT_GENES, out_genes, 2 * p + 1)
+    if children % 2:
+        out_codons[children - 1] = codons[parents[children - 1]]
+        out_genes[children - 1] = genes[parents[children - 1]]
+
+
+@njit(cache=True, inline="always")
+def _elements_within(element_codons, cut):  # pragma: no cover - compiled
+    """Elements complete once the first ``cut`` codons are read (they are in codon order)."""
+    count = 0
+    while count < element_codons.shape[0] and element_codons[count] <= cut:
+        count += 1
+    return count
+
+
+@njit(cache=True, inline="always")
+def _splice(source, head, tail, head_cut, tail_cut, out, row):  # pragma: no cover - compiled
+    """``out[row]``: ``source[head]`` up to ``head_cut``, ``source[tail]`` from ``tail_cut`` for as
+    long as both fit the width, and ``source[head]``'s own values in what is left."""
+    width = source.shape[1]
+    taken = width - max(head_cut, tail_cut)
+    out[row, :head_cut] = source[head, :head_cut]
+    out[row, head_cut : head_cut + taken] = source[tail, tail_cut : tail_cut + taken]
+    out[row, head_cut + taken :] = source[head, head_cut + taken :]
+
+
+def used_mutation_draws(
+    rng: np.random.Generator, *, usage: Usage, length: int, slots: int, rate: float, codon_max: int
+) -> MutationDraws:
+    """Int-flip mutation within what the children (of ``usage``) use: each used codon and each gene of
+    an element's placement row is replaced with probability ``rate``.
+
+    Hits are drawn over whole rows, as :func:`~mazegen.runtime.engine.operators.mutation_draws`
+    does, and those past the used part dropped before their values are drawn: each used position
+    is still hit with probability ``rate``, independently.
+    """
+    children = usage.codons.shape[0]
+    codon_hits = hit_positions(rng, children * length, rate)
+    codon_hits = codon_hits[codon_hits % length < usage.codons[codon_hits // length]]
+    codon_type = np.min_scalar_type(codon_max)
+    codon_values = rng.integers(0, codon_max, size=codon_hits.shape[0], dtype=codon_type, endpoint=True)
+    row = slots * PLACEMENT_GENES
+    gene_hits = hit_positions(rng, children * row, rate)
+    gene_hits = gene_hits[gene_hits % row // PLACEMENT_GENES < usage.rows[gene_hits // row]]
+    gene_values = rng.integers(0, GENE_MAX, size=gene_hits.shape[0], dtype=np.uint16, endpoint=True)
+    return MutationDraws(codon_hits, codon_values, gene_hits, gene_values)
