@@ -71,6 +71,13 @@ BUNDLED: dict[str, BundledController] = {
             Parameter("path_weight", 0.75, NUMBER, "weight of the distance to the path (pdist_scale)"),
             Parameter("goal_weight", 1.0, NUMBER, "weight of the distance to the goal (gdist_scale)"),
             Parameter("inflation", 0.30, LENGTH, "obstacle cost is 0 this far from the robot's edge"),
+            Parameter(
+                "decay", 0.1, LENGTH, "obstacle cost falls by e over this gap (1 / cost_scaling_factor)", 1e-9
+            ),
+            Parameter(
+                "resolution", 0.05, LENGTH, "costmap cell the path and goal distances are counted in", 1e-9
+            ),
+            Parameter("forward", 0.325, LENGTH, "turns on the spot face the goal this far ahead", 0.0),
         ),
     ),
     "purepursuit": BundledController(
@@ -99,6 +106,10 @@ BUNDLED: dict[str, BundledController] = {
             Parameter("threshold", 0.5, NUMBER, "density above which a sector is blocked", 0.0, 1e6),
             Parameter("safety", 0.2, LENGTH, "distance kept from obstacles beyond the robot's radius", 0.0),
             Parameter("window", 1.5, LENGTH, "readings farther than this do not block", 0.0),
+            Parameter("wide", 1.571, ANGLE, "openings wider than this are entered half of it in", 0.0, 6.3),
+            Parameter(
+                "heading_gain", 2.0, NUMBER, "turn rate per radian between heading and steer", 0.0, 100
+            ),
         ),
     ),
 }

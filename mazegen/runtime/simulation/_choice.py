@@ -25,8 +25,12 @@ from mazegen.spec import Arena, ControllerSpec, Robot, metres_per_unit
 ENTRY_POINTS = "mazegen.controllers"
 """The entry point group under which packages register controllers."""
 
-PATHS = frozenset({"purepursuit"})
-"""Bundled controllers that follow MazeGen's path; their last parameter is the path's margin."""
+PATHS = frozenset({"purepursuit", "dwa"})
+"""Bundled controllers that read MazeGen's path."""
+MARGINS = frozenset({"purepursuit"})
+"""Bundled controllers whose last parameter is the margin their path keeps beyond the radius."""
+FIELDS = frozenset({"dwa"})
+"""Bundled controllers that read the navigation and clearance fields (:mod:`._fields`)."""
 
 
 @dataclass(frozen=True)

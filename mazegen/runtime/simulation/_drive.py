@@ -17,8 +17,9 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.runtime.engine.population import Population
-from mazegen.runtime.simulation._choice import Choice, choose
+from mazegen.runtime.simulation._choice import FIELDS, MARGINS, Choice, choose
 from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
+from mazegen.runtime.simulation._fields import floor_fields
 from mazegen.runtime.simulation._lidar import beam_angles
 from mazegen.runtime.simulation._loop import begin_all, run_all
 from mazegen.runtime.simulation._paths import FloorPaths, floor_paths
@@ -64,7 +65,8 @@ def drive(
         raise MazeError(f"indices must lie in [0, {population.size}), got {rows.min()}..{rows.max()}")
     poses = _starts(population, m, starts)
     world = world_of(population, rows)
-    paths = floor_paths(population, rows, margin=choice.params[-1] if choice.path else None)
+    margin = (choice.params[-1] if choice.name in MARGINS else 0.0) if choice.path else None
+    paths = floor_paths(population, rows, margin=margin)
     optimal = paths.length / robot.max_speed
     max_steps = np.where(
         np.isnan(optimal), 0, np.ceil(robot.timeout * np.nan_to_num(optimal) / robot.step - 1e-9)
@@ -92,8 +94,10 @@ def drive(
     if m:
         begin_all(poses, limits, goal, world.arrays, state, outcome)
         arrays = (state, outcome, steps, progress, stuck, trajectory)
-        if choice.policy is None:
-            _run_bundled(choice, run, *arrays)
+        if choice.policy is None and choice.name in FIELDS:
+            _run_with_fields(population, robot, rows, choice, run, *arrays)
+        elif choice.policy is None:
+            _run_bundled(choice, run, _NO_FIELDS, *arrays)
         else:
             run_policy(choice.name, choice.policy, run, rows, *arrays)
     driven = outcome != NO_PATH
@@ -133,7 +137,33 @@ _NO_FIELDS = (np.full((1, 1, 1), np.inf, np.float32), np.zeros((1, 1, 1), np.flo
 """The fields of controllers that read none: one 1×1 dummy shared by every floor."""
 
 
-def _run_bundled(choice: Choice, run: _Run, *arrays: np.ndarray) -> None:
+FIELD_CHUNK = 1024
+"""Floors whose fields are built and driven at a time: the fields of a 128 × 128 grid take 128 kB
+a floor, so a drive over many floors holds a chunk's, not all of them."""
+
+
+def _run_with_fields(
+    population: Population, robot: Robot, rows: np.ndarray, choice: Choice, run: _Run, *arrays: np.ndarray
+) -> None:
+    """Drive chunk after chunk of floors, each with the fields of its floors."""
+    world = run.world
+    for a in range(0, len(rows), FIELD_CHUNK):
+        b = min(a + FIELD_CHUNK, len(rows))
+        part = _Run(
+            run.limits,
+            run.goal,
+            World(world.first[a : b + 1], world.vertices, world.count, world.box, world.size),
+            FloorPaths(run.paths.length[a:b], run.paths.corners[a:b], run.paths.count[a:b]),
+            run.angles,
+            run.reach,
+            run.max_steps[a:b],
+            run.stuck_steps,
+        )
+        fields = floor_fields(population, robot, rows[a:b])
+        _run_bundled(choice, part, fields, *(array[a:b] if len(array) else array for array in arrays))
+
+
+def _run_bundled(choice: Choice, run: _Run, fields: tuple, *arrays: np.ndarray) -> None:
     blocks = min(len(arrays[0]), 32 * numba.get_num_threads())
     with numba.parallel_chunksize(1):  # episodes differ in length: hand out blocks one at a time
         run_all(
@@ -144,7 +174,7 @@ def _run_bundled(choice: Choice, run: _Run, *arrays: np.ndarray) -> None:
             run.world.arrays,
             run.paths.corners,
             run.paths.count,
-            _NO_FIELDS,
+            fields,
             run.angles,
             run.reach,
             run.max_steps,

@@ -13,8 +13,10 @@ import numpy as np
 from numba import njit, prange
 
 from mazegen.runtime.simulation._controllers import purepursuit_command, straight_command
+from mazegen.runtime.simulation._dwa import dwa_command
 from mazegen.runtime.simulation._lidar import scan
 from mazegen.runtime.simulation._step import ACTIVE, X, advance, begin
+from mazegen.runtime.simulation._vfh import vfh_command
 
 CODES = {"straight": 0, "purepursuit": 1, "dwa": 2, "vfh": 3}
 """The code of each bundled controller in :func:`command`."""
@@ -30,7 +32,10 @@ def command(
         straight_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     elif code == PUREPURSUIT:
         purepursuit_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
-    # DWA and VFH: dwa's _dwa.dwa_command and _vfh.vfh_command plug in here.
+    elif code == DWA:
+        dwa_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+    elif code == VFH:
+        vfh_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     else:
         out[0] = 0.0
         out[1] = 0.0

@@ -1,0 +1,232 @@
+"""The fields the map-reading controllers look up: a navigation function and a clearance field per floor.
+
+Both live on the configuration-space grid of :func:`mazegen.runtime.geometry.cspace.grid_of`
+(cell ``(r, c)`` has its centre at ``((c + .5) cell, (r + .5) cell)``):
+
+- ``clear``: the Euclidean distance from each cell centre to the nearest occupied cell's centre
+  (the exact distance transform of the occupancy raster, Felzenszwalb and Huttenlocher 2012),
+  or to the arena's edge (exact) when that is nearer; 0 on occupied cells. The raster marks
+  every cell a part touches, so the true distance from a cell centre to the nearest obstacle
+  differs from ``clear`` by at most half a cell's diagonal (:data:`CLEAR_ERROR` cells).
+- ``nav``: the free-space distance to the goal from each cell centre over the free cells of the
+  configuration space (robot radius inflated), by Dijkstra's algorithm on the 8-connected
+  cells (a diagonal step needs both cells beside it free, as the path search does); ``inf``
+  where blocked or cut off from the goal. It is at most ``1 - π/8 ≈ 8 %`` longer than the
+  shortest free-space path between the same cells.
+
+Floors are built in parallel, each thread with its own scratch; nothing is allocated per floor.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit, prange
+
+from mazegen.runtime.geometry.bits import is_set
+from mazegen.runtime.geometry.cspace import cspace, grid_args, grid_of, raster_arrays
+from mazegen.runtime.navigation.paths import kernel_args
+
+if TYPE_CHECKING:
+    from mazegen.runtime.engine.population import Population
+    from mazegen.spec import Robot
+
+CLEAR_ERROR = math.sqrt(0.5)
+"""Largest difference, in cells, between ``clear`` and the true distance from a cell centre to
+the nearest obstacle or wall."""
+
+_FAR = np.float32(np.inf)
+
+
+def floor_fields(
+    population: Population, robot: Robot | None = None, indices: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(nav float32[M, R, C], clear float32[M, R, C], grid float64[5])`` of the floors ``indices``
+    (default: every valid individual; an invalid one has no elements), ``grid`` =
+    ``(x0, y0, cell, rows, cols)``.
+
+    The fields depend on the floor and the arena's robot radius only; ``robot`` is taken so
+    that every caller passes what it drives with, and is not read.
+    """
+    del robot
+    arena = population.arena
+    grid = grid_of(arena)
+    if indices is None:
+        indices = np.flatnonzero(population.valid)
+    indices = np.ascontiguousarray(indices, np.int64)
+    m = indices.shape[0]
+    nav = np.empty((m, grid.rows, grid.cols), np.float32)
+    clear = np.empty((m, grid.rows, grid.cols), np.float32)
+    if m:
+        shapes, ids, n_el, params, _ = kernel_args(population)
+        extent = np.array([arena.width, arena.height])
+        blocks = min(m, 64)
+        _fields_all(shapes, ids, n_el, params, indices, grid_args(grid), extent, blocks, nav, clear)
+    return nav, clear, np.array([0.0, 0.0, grid.cell, grid.rows, grid.cols])
+
+
+@njit(cache=True, parallel=True)
+def _fields_all(shapes, ids, n_el, params, indices, grid, extent, blocks, nav, clear):  # pragma: no cover
+    """Fill ``nav[m]`` and ``clear[m]`` for floor ``indices[m]``, ``blocks`` slices in parallel."""
+    rows, cols = grid[1], grid[2]
+    reach = grid[3].shape[0] - 1
+    n = indices.shape[0]
+    for block in prange(blocks):
+        raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
+        free = np.zeros((rows, grid[4].shape[1]), np.uint64)
+        stride = raster[1].shape[0] // rows
+        occupied = raster[0][0, reach * stride : (reach + rows) * stride].reshape((rows, stride))
+        scratch = field_scratch(rows, cols)
+        for m in range(block * n // blocks, (block + 1) * n // blocks):
+            i = indices[m]
+            cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
+            clearance(occupied, grid[0], extent, clear[m], scratch)
+            navigation(free, grid[0], grid[5], grid[6], nav[m], scratch)
+
+
+@njit(cache=True)
+def field_scratch(rows, cols):  # pragma: no cover - compiled
+    """Scratch of :func:`clearance` and :func:`navigation` for one thread."""
+    longest = max(rows, cols)
+    return (
+        np.empty((rows, cols)),  # squared distances, in cells², after the column pass
+        np.empty(longest),  # one line of squared distances
+        np.empty(longest),  # and its transform
+        np.empty(longest, np.int64),  # the lower envelope's parabolas
+        np.empty(longest + 1),  # and where each starts
+        np.empty(8 * rows * cols + 1),  # heap keys
+        np.empty(8 * rows * cols + 1, np.int64),  # heap cells
+    )
+
+
+@njit(cache=True)
+def clearance(occupied, cell, extent, out, scratch):  # pragma: no cover - compiled
+    """``out[r, c]``: distance from cell ``(r, c)``'s centre to the nearest occupied cell's centre
+    or to the arena's edge, whichever is nearer (arena units)."""
+    rows, cols = out.shape
+    squared, line, done, hull, bounds = scratch[0], scratch[1], scratch[2], scratch[3], scratch[4]
+    far = float(rows * rows + cols * cols + 1)
+    for c in range(cols):
+        for r in range(rows):
+            line[r] = 0.0 if is_set(occupied[r], c) else far
+        _lower_envelope(line, rows, hull, bounds, done)
+        for r in range(rows):
+            squared[r, c] = done[r]
+    width, height = extent[0], extent[1]
+    for r in range(rows):
+        _lower_envelope(squared[r], cols, hull, bounds, done)
+        y = (r + 0.5) * cell
+        to_rows = min(y, height - y)
+        for c in range(cols):
+            x = (c + 0.5) * cell
+            edge = max(min(to_rows, x, width - x), 0.0)
+            out[r, c] = min(math.sqrt(done[c]) * cell, edge)
+
+
+@njit(cache=True, inline="always")
+def _lower_envelope(f, n, hull, bounds, out):  # pragma: no cover - compiled
+    """``out[:n]``: the 1D squared distance transform ``min_q (p - q)² + f[q]`` of ``f[:n]``
+    (Felzenszwalb and Huttenlocher's lower envelope of parabolas)."""
+    k = 0
+    hull[0] = 0
+    bounds[0] = -np.inf
+    bounds[1] = np.inf
+    for q in range(1, n):
+        s = 0.0
+        while True:
+            p = hull[k]
+            s = ((f[q] + q * q) - (f[p] + p * p)) / (2.0 * (q - p))
+            if s > bounds[k] or k == 0:
+                break
+            k -= 1
+        if s <= bounds[k]:  # k == 0 and the new parabola is lower everywhere
+            hull[0] = q
+            continue
+        k += 1
+        hull[k] = q
+        bounds[k] = s
+        bounds[k + 1] = np.inf
+    k = 0
+    for p in range(n):
+        while bounds[k + 1] < p:
+            k += 1
+        d = p - hull[k]
+        out[p] = d * d + f[hull[k]]
+
+
+@njit(cache=True)
+def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - compiled
+    """``out[r, c]``: distance to the goal from cell ``(r, c)``'s centre through free cells,
+    8-connected (Dijkstra with a binary heap), ``inf`` where the goal cannot be reached."""
+    rows, cols = out.shape
+    best, keys, cells = scratch[0], scratch[5], scratch[6]
+    best[:] = np.inf
+    out[:] = _FAR
+    gr, gc = ends[2], ends[3]
+    if not (0 <= gr < rows and 0 <= gc < cols and is_set(free[gr], gc)):
+        return
+    gx, gy = points[2], points[3]
+    seed = math.hypot((gc + 0.5) * cell - gx, (gr + 0.5) * cell - gy)
+    best[gr, gc] = seed
+    size = _push(keys, cells, 0, seed, gr * cols + gc)
+    diagonal = math.sqrt(2.0) * cell
+    while size:
+        key, here = keys[0], cells[0]
+        size = _pop(keys, cells, size)
+        r, c = here // cols, here - (here // cols) * cols
+        if key > best[r, c] or out[r, c] < _FAR:  # a stale entry, or settled already
+            continue
+        out[r, c] = key
+        for dr in range(-1, 2):
+            nr = r + dr
+            if nr < 0 or nr >= rows:
+                continue
+            for dc in range(-1, 2):
+                nc = c + dc
+                if (dr == 0 and dc == 0) or nc < 0 or nc >= cols or not is_set(free[nr], nc):
+                    continue
+                if dr != 0 and dc != 0:
+                    if not (is_set(free[r], nc) and is_set(free[nr], c)):
+                        continue
+                    reached = key + diagonal
+                else:
+                    reached = key + cell
+                if reached < best[nr, nc]:
+                    best[nr, nc] = reached
+                    size = _push(keys, cells, size, reached, nr * cols + nc)
+
+
+@njit(cache=True, inline="always")
+def _push(keys, cells, size, key, value):  # pragma: no cover - compiled
+    """Add ``(key, value)`` to the binary min-heap of ``size`` entries; returns the new size."""
+    i = size
+    while i > 0:
+        parent = (i - 1) >> 1
+        if keys[parent] <= key:
+            break
+        keys[i], cells[i] = keys[parent], cells[parent]
+        i = parent
+    keys[i], cells[i] = key, value
+    return size + 1
+
+
+@njit(cache=True, inline="always")
+def _pop(keys, cells, size):  # pragma: no cover - compiled
+    """Remove the heap's smallest entry; returns the new size."""
+    size -= 1
+    key, value = keys[size], cells[size]
+    i = 0
+    while True:
+        child = 2 * i + 1
+        if child >= size:
+            break
+        if child + 1 < size and keys[child + 1] < keys[child]:
+            child += 1
+        if keys[child] >= key:
+            break
+        keys[i], cells[i] = keys[child], cells[child]
+        i = child
+    keys[i], cells[i] = key, value
+    return size

@@ -1,0 +1,23 @@
+"""What a controller kernel reads, for ARENA's default robot: its parameters and the limits."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mazegen.runtime.simulation._choice import bundled_params
+from mazegen.spec import robot_for
+from tests.runtime.floors import ARENA
+
+ROBOT = robot_for(ARENA)
+LIMITS = np.array(
+    [
+        *(ROBOT.max_speed, ROBOT.min_speed, ROBOT.max_turn, ROBOT.accel, ROBOT.turn_accel, ROBOT.step),
+        *(ARENA.robot_radius, ROBOT.goal_tolerance),
+    ]
+)
+"""The ``limits`` array of the kernels, in the loop's order."""
+
+
+def params_of(name: str) -> np.ndarray:
+    """Bundled controller ``name``'s default parameters, lengths in ARENA's unit."""
+    return bundled_params(name, (), ARENA)
