@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -145,7 +146,7 @@ class Scenario:
     placement: GrammarPlacement | None = None
 
 
-REWARDS = frozenset({"count", "difficulty", "metric", "diversity", "coverage"})
+REWARDS = frozenset({"count", "difficulty", "metric", "diversity", "coverage", "drive"})
 """Term kinds added to the fitness; the others are penalties, subtracted."""
 
 PATH_METRICS = (
@@ -189,7 +190,10 @@ class FitnessTerm:
 
     @property
     def key(self) -> str:
-        """The term's name in fitness breakdowns: its kind, or its metric's name."""
+        """The term's name in fitness breakdowns: its kind, its metric's name, or for a drive term its
+        controllers' and measure's (``dwa_fails``, ``dwa_purepursuit_disagree``)."""
+        if self.kind == "drive":
+            return "_".join(re.sub(r"\W", "_", name) for name in (*self.controllers, self.metric or ""))
         return self.metric if self.kind == "metric" and self.metric else self.kind
 
 

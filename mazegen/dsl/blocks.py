@@ -7,6 +7,7 @@ from typing import Any
 
 from mazegen.dsl.bounds import MAX_LENGTH, MAX_SLOTS, MAX_TARGET, MAX_TERMINALS, MAX_WEIGHT, at_most
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
+from mazegen.dsl.robot import drive_controllers
 from mazegen.spec import (
     DIFFICULTY_LEVELS,
     MAX_CODONS,
@@ -211,7 +212,12 @@ def convert_fitness(decl: Any | None) -> tuple[FitnessTerm, ...]:
 
 def _fitness_term(term: Any) -> FitnessTerm:
     metric = getattr(term, "metric", None) or getattr(term, "measure", None) or None
-    kind = "metric" if getattr(term, "metric", None) else {"size": "size_limit"}.get(term.kind, term.kind)
+    drive = type(term).__name__ == "DriveTerm"
+    controllers = drive_controllers(term) if drive else ()
+    if drive:
+        kind = "drive"
+    else:
+        kind = "metric" if getattr(term, "metric", None) else {"size": "size_limit"}.get(term.kind, term.kind)
     weight = term.weight if term.weight is not None else 1.0
     if weight < 0:
         fail(term, f"weight must not be negative, got {weight:g}")
@@ -226,7 +232,7 @@ def _fitness_term(term: Any) -> FitnessTerm:
         fail(term, "a size limit needs 'reject' or 'penalty W'")
     if kind == "outside" and getattr(term, "allow", False):
         weight = 0.0
-    return FitnessTerm(kind, weight, limit, reject, _target(term), metric)
+    return FitnessTerm(kind, weight, limit, reject, _target(term), metric, controllers)
 
 
 def _target(term: Any) -> tuple[float, float] | None:

@@ -16,6 +16,7 @@ from mazegen.dsl.blocks import convert_arena, convert_evolution, convert_fitness
 from mazegen.dsl.elements import convert_element
 from mazegen.dsl.located import display_path, fail, suggestion, where
 from mazegen.dsl.metamodel import metamodel
+from mazegen.dsl.robot import convert_robot
 from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
@@ -159,14 +160,18 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
     # Every declared element is checked, used or not, so a library's mistakes surface.
     converted = {name: convert_element(decl) for name, decl in element_decls.items()}
     elements = tuple(converted[name] for name in scenario.elements)
+    fitness = convert_fitness(singles.get("FitnessDecl"))
+    arena = arenas[scenario.arena]
+    robot = convert_robot(singles.get("RobotDecl"), arena, fitness, singles.get("FitnessDecl"))
     return Spec(
         name=scenario.name,
         source=main.label,
         elements=elements,
-        arena=arenas[scenario.arena],
+        arena=arena,
         scenario=scenario,
-        fitness=convert_fitness(singles.get("FitnessDecl")),
+        fitness=fitness,
         evolution=evolution,
+        robot=robot,
     )
 
 

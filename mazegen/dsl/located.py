@@ -5,7 +5,7 @@ from __future__ import annotations
 import contextlib
 import difflib
 import os
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from typing import Any, NoReturn
 
 from textx import get_location
@@ -46,18 +46,22 @@ def suggestion(name: str, known: Iterable[str]) -> str:
     return f" (did you mean '{close[0]}'?)" if close else ""
 
 
-def single_properties(properties: Iterable[Any], what: str) -> dict[str, Any]:
+def single_properties(
+    properties: Iterable[Any], what: str, *, labels: Mapping[str, str] | None = None
+) -> dict[str, Any]:
     """Index properties by their textX class (or ``key``), rejecting duplicates.
 
     Args:
         properties: textX property objects of one block.
         what: Block description used in the message (``element 'cobot'``).
+        labels: How the messages name properties of several words, by class (``min speed``).
     """
     found: dict[str, Any] = {}
     for prop in properties:
         key = getattr(prop, "key", None) or type(prop).__name__
         if key in found:
-            fail(prop, f"duplicate {_label(key)} in {what} (first given at {where(found[key])})")
+            label = f"'{labels[key]}'" if labels and key in labels else _label(key)
+            fail(prop, f"duplicate {label} in {what} (first given at {where(found[key])})")
         found[key] = prop
     return found
 

@@ -17,6 +17,7 @@ _RULE_NAMES = {
     "Name": "a name",
     "STRING": "a quoted string",
     "NonTerminal": "a rule name such as <scenario>",
+    "ControllerName": "a controller name (dwa, or a policy's path package.module:name)",
     "EOF": "end of file",
 }
 

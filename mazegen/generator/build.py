@@ -14,7 +14,7 @@ from jinja2 import Environment, PackageLoader, StrictUndefined
 from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
 from mazegen.generator.grammar import scenario_rules
-from mazegen.spec import REWARDS, FitnessTerm, Spec
+from mazegen.spec import REWARDS, FitnessTerm, Spec, robot_for
 from mazegen.version import __version__
 
 ARTIFACTS = ("grammar.bnf", "fitness.py", "experiment.py", "spec.json")
@@ -22,11 +22,33 @@ ARTIFACTS = ("grammar.bnf", "fitness.py", "experiment.py", "spec.json")
 
 @dataclass(frozen=True)
 class TermLine:
-    """One rendered fitness term: its key, Python expression and a comment."""
+    """One rendered fitness term: its key, Python expression and a comment; ``drives`` when it reads
+    how a robot fares (its expression reads ``driven``, the individuals chosen to drive)."""
 
     key: str
     expression: str
     note: str
+    drives: bool = False
+
+
+_DRIVE_NOTES = {
+    "fails": "1 where {0} collides or times out",
+    "time": "{0}'s time over the optimal time (failures: the timeout factor)",
+    "clearance": "{0}'s closest approach to an obstacle (arena units)",
+    "disagree": "1 where one of {0} and {1} arrives and the other fails",
+}
+
+
+def _drive_metric(term: FitnessTerm) -> tuple[str, str]:
+    """A drive term's call, over lines of their own (controller names may be long), and its note;
+    an individual not driven gets no credit: 0, or 0 closeness to a target."""
+    names = ", ".join(repr(name) for name in term.controllers)
+    call = f"metrics.drive_{term.metric}(pop, {names}, driven)"
+    note = _DRIVE_NOTES[term.metric or ""].format(*term.controllers)
+    if term.target is None:
+        return f"np.nan_to_num(\n            {call}\n        )", note
+    low, high = term.target
+    return f"metrics.closeness(\n            {call}, {low!r}, {high!r}\n        )", f"{note}, near a target"
 
 
 def _environment() -> Environment:
@@ -46,6 +68,8 @@ def _environment() -> Environment:
 def _metric(term: FitnessTerm) -> tuple[str, str]:
     """The metric call of a term and a short note on where it comes from."""
     target = "" if term.target is None else ", {!r}, {!r}".format(*term.target)
+    if term.kind == "drive":
+        return _drive_metric(term)
     if term.kind == "count":
         return "metrics.element_count(pop)", "paper eq. 1: number of elements"
     if term.kind == "overlap":
@@ -83,7 +107,8 @@ def fitness_lines(spec: Spec) -> tuple[list[TermLine], list[TermLine]]:
             rejecting.append(TermLine(term.key, call, note + " (reject)"))
         elif term.weight != 0:
             sign = "" if term.kind in REWARDS else "-"
-            penalised.append(TermLine(term.key, f"{sign}{float(term.weight)!r} * {call}", note))
+            expression = f"{sign}{float(term.weight)!r} * {call}"
+            penalised.append(TermLine(term.key, expression, note, drives=term.kind == "drive"))
     return penalised, rejecting
 
 
@@ -134,10 +159,16 @@ def render_artifacts(spec: Spec) -> dict[str, str]:
     grammar = grammar_text(spec)
     _check_buildable(spec, grammar)
     penalised, rejecting = fitness_lines(spec)
+    driving = [line for line in penalised if line.drives]
+    driven = 1.0 if not driving else (spec.robot or robot_for(spec.arena)).driven
     return {
         "grammar.bnf": grammar,
         "fitness.py": env.get_template("fitness.py.jinja").render(
-            penalised=penalised, rejecting=rejecting, **context
+            penalised=[line for line in penalised if not line.drives],
+            driving=driving,
+            driven=float(driven),
+            rejecting=rejecting,
+            **context,
         ),
         "experiment.py": env.get_template("experiment.py.jinja").render(**context),
         "spec.json": spec.to_json(),

@@ -1,17 +1,26 @@
 """Metric kernels over a decoded :class:`Population`: the building blocks of fitness terms.
 
 Each function returns one float64 value per individual; invalid individuals
-(no elements) score zero on every metric.
+(no elements) score zero on every metric. The drive measures (``drive_*``) are NaN where an
+individual is not driven or its floor has no path.
 """
 
 from __future__ import annotations
 
+import math
+from typing import TYPE_CHECKING
+
 import numpy as np
 from numba import njit, prange
 
+from mazegen.runtime import simulation
 from mazegen.runtime.engine.population import SX, SY, Population
 from mazegen.runtime.geometry import overlap
 from mazegen.runtime.navigation.measures import navigation_of, reach_of, survey_of
+from mazegen.spec import Robot, robot_for
+
+if TYPE_CHECKING:
+    from mazegen.runtime.simulation import Episodes
 
 
 def element_count(pop: Population) -> np.ndarray:
@@ -110,3 +119,70 @@ def _type_counts(ids, n_elements, n_types):  # pragma: no cover - compiled
                 p = counts[t] / n
                 entropy[i] -= p * np.log2(p)
     return distinct, entropy
+
+
+def drive_selection(
+    pop: Population, scores: dict[str, np.ndarray], rejected: np.ndarray, fraction: float
+) -> np.ndarray:
+    """Which individuals to drive: the best ``fraction`` of the population by the sum of the (static)
+    ``scores``, ⌈fraction × size⌉ at most, among the valid ones not ``rejected``; every one of
+    those for a fraction of 1. Ties keep index order; the indices ascend."""
+    kept = np.flatnonzero(pop.valid & ~np.asarray(rejected, dtype=bool))
+    if fraction >= 1:
+        return kept
+    total = np.zeros(pop.size)
+    for values in scores.values():
+        total += values
+    best = np.argsort(-total[kept], kind="stable")[: min(kept.size, math.ceil(fraction * pop.size))]
+    return np.sort(kept[best])
+
+
+def _robot(pop: Population) -> Robot:
+    return pop.robot if pop.robot is not None else robot_for(pop.arena)
+
+
+def episodes_of(pop: Population, controller: str, driven: np.ndarray) -> Episodes:
+    """The episodes of ``controller`` on the ``driven`` individuals: driven once per population, however
+    many terms read them (kept in the population's ``measured``)."""
+    key = f"drive {controller}"
+    kept = pop.measured.get(key)
+    if kept is None or not np.array_equal(kept[0], driven):
+        robot = _robot(pop)
+        episodes = simulation.drive(pop, robot=robot, controller=robot.controller(controller), indices=driven)
+        kept = pop.measured[key] = (driven.copy(), episodes)
+    return kept[1]
+
+
+def _spread(pop: Population, driven: np.ndarray, values: np.ndarray, episodes: Episodes) -> np.ndarray:
+    """``values`` of the driven floors in the population's rows, NaN elsewhere and where no path exists."""
+    out = np.full(pop.size, np.nan)
+    out[driven] = np.where(np.isfinite(episodes.optimal_time), values, np.nan)
+    return out
+
+
+def drive_fails(pop: Population, controller: str, driven: np.ndarray) -> np.ndarray:
+    """1 where ``controller``'s robot collides or times out, 0 where it arrives."""
+    episodes = episodes_of(pop, controller, driven)
+    return _spread(pop, driven, episodes.failed.astype(np.float64), episodes)
+
+
+def drive_time(pop: Population, controller: str, driven: np.ndarray) -> np.ndarray:
+    """Time to the goal over the optimal time (BARN's AT / OT); a failure counts as the robot's
+    timeout factor, the most an episode may last."""
+    episodes = episodes_of(pop, controller, driven)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(episodes.failed, _robot(pop).timeout, episodes.time / episodes.optimal_time)
+    return _spread(pop, driven, ratio, episodes)
+
+
+def drive_clearance(pop: Population, controller: str, driven: np.ndarray) -> np.ndarray:
+    """The closest approach of the robot's edge to an obstacle or the arena wall, arena units."""
+    episodes = episodes_of(pop, controller, driven)
+    return _spread(pop, driven, episodes.clearance, episodes)
+
+
+def drive_disagree(pop: Population, first: str, second: str, driven: np.ndarray) -> np.ndarray:
+    """1 where one controller arrives and the other fails, 0 where they fare alike."""
+    one, other = episodes_of(pop, first, driven), episodes_of(pop, second, driven)
+    differ = (one.failed != other.failed).astype(np.float64)
+    return _spread(pop, driven, differ, one)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numba import njit, prange
 
-from mazegen.spec import Arena, Spec
+from mazegen.spec import Arena, Robot, Spec
 
 if TYPE_CHECKING:
     from mazegen.runtime.engine.mapping import PopulationMap
@@ -44,6 +44,7 @@ class Population:
         table: Geometry of the element types.
         arena: The floor the scenarios are placed on.
         surveyed: The fitness reads difficulty metrics: search paths once, with them.
+        robot: The robot the spec drives through the floors (None: it drives none).
         measured: What the layers above find from the population (its navigation, say), kept
             with it so that each is found once (see :mod:`mazegen.runtime.navigation.measures`).
     """
@@ -55,6 +56,7 @@ class Population:
     table: ElementTable
     arena: Arena
     surveyed: bool = False
+    robot: Robot | None = None
     measured: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @cached_property
@@ -226,4 +228,5 @@ def decode(
         table,
         spec.arena,
         spec.reads_difficulty,
+        spec.robot,
     )
