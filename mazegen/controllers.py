@@ -78,6 +78,9 @@ BUNDLED: dict[str, BundledController] = {
                 "resolution", 0.05, LENGTH, "costmap cell the path and goal distances are counted in", 1e-9
             ),
             Parameter("forward", 0.325, LENGTH, "turns on the spot face the goal this far ahead", 0.0),
+            Parameter(
+                "path_margin", 0.3, LENGTH, "the path keeps this far beyond the radius where it can", 0.0
+            ),
         ),
     ),
     "purepursuit": BundledController(
@@ -93,7 +96,7 @@ BUNDLED: dict[str, BundledController] = {
             Parameter("min_radius", 0.9, LENGTH, "turns tighter than this radius slow the robot", 0.0),
             Parameter("rotate_to_heading", 0.785, ANGLE, "heading error to turn on the spot at", 0.0, 3.15),
             Parameter("regulated_min_speed", 0.25, SPEED, "slowest speed the turn regulation slows to", 0.0),
-            Parameter("path_margin", 0.3, LENGTH, "the path keeps this far beyond the radius where it can", 0.0),
+            Parameter("path_margin", 0.3, LENGTH, "the path keeps this far past the radius if it can", 0.0),
         ),
     ),
     "vfh": BundledController(

@@ -27,10 +27,11 @@ ENTRY_POINTS = "mazegen.controllers"
 
 PATHS = frozenset({"purepursuit", "dwa"})
 """Bundled controllers that read MazeGen's path."""
-MARGINS = frozenset({"purepursuit"})
-"""Bundled controllers whose last parameter is the margin their path keeps beyond the radius."""
 FIELDS = frozenset({"dwa"})
 """Bundled controllers that read the navigation and clearance fields (:mod:`._fields`)."""
+MARGINS = {"purepursuit": "path_margin", "dwa": "path_margin"}
+"""Bundled controllers that follow the path of a wider robot where there is one: the parameter
+saying how much wider (:func:`mazegen.runtime.simulation._paths.floor_paths`)."""
 
 
 @dataclass(frozen=True)
@@ -42,7 +43,8 @@ class Choice:
         code: The bundled controller's code in the episode loop, -1 for a user's policy.
         params: ``float64[:]`` the bundled controller's parameters, in arena units.
         lidar: Whether it reads the lidar.
-        path: Whether it follows MazeGen's path.
+        margin: How much wider than the robot the path it reads is searched for (0: MazeGen's own
+            path), or None when it reads no path.
         policy: The user's batch policy, or None.
     """
 
@@ -50,7 +52,7 @@ class Choice:
     code: int
     params: np.ndarray
     lidar: bool
-    path: bool
+    margin: float | None
     policy: Callable[[Any], Any] | None = None
 
 
@@ -62,18 +64,20 @@ def choose(controller: str | ControllerSpec | Callable[[Any], Any], robot: Robot
         name, overrides = controller, robot.controller(controller).params
     elif callable(controller):
         label = getattr(controller, "__name__", type(controller).__name__)
-        return Choice(label, -1, np.zeros(0), True, False, controller)
+        return Choice(label, -1, np.zeros(0), True, None, controller)
     else:
         raise MazeError(f"a controller is a name or a policy, got {type(controller).__name__}")
     if name in BUNDLED:
         if name not in CODES:
             raise MazeError(f"controller {name} is not in this build of the simulator")
-        return Choice(
-            name, CODES[name], bundled_params(name, overrides, arena), BUNDLED[name].lidar, name in PATHS
-        )
+        params = bundled_params(name, overrides, arena)
+        margin = None if name not in PATHS else 0.0
+        if name in MARGINS:
+            margin = float(params[[p.name for p in BUNDLED[name].parameters].index(MARGINS[name])])
+        return Choice(name, CODES[name], params, BUNDLED[name].lidar, margin)
     if overrides:
         raise MazeError(f"controller {name} is a user's policy: it takes no parameters from the spec")
-    return Choice(name, -1, np.zeros(0), True, False, load_policy(name))
+    return Choice(name, -1, np.zeros(0), True, None, load_policy(name))
 
 
 def bundled_params(name: str, overrides: tuple[tuple[str, float], ...], arena: Arena) -> np.ndarray:

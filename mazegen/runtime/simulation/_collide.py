@@ -76,6 +76,16 @@ def _edge_slab_entry(px, py, dx, dy, ax, ay, bx, by, r):  # pragma: no cover - c
     return enter if enter <= leave else NO_HIT
 
 
+@njit(cache=True, inline="always")
+def _edge(vertices, n, k, px, py):  # pragma: no cover - compiled
+    """Edge ``k`` of a counter-clockwise part, ``(ax, ay, bx, by)``, and whether ``p`` is on its
+    inner side (or on it): ``p`` is inside the part when it is for every edge."""
+    ax, ay = vertices[k, 0], vertices[k, 1]
+    j = k + 1 if k + 1 < n else 0
+    bx, by = vertices[j, 0], vertices[j, 1]
+    return ax, ay, bx, by, (bx - ax) * (py - ay) - (by - ay) * (px - ax) >= 0.0
+
+
 @njit(cache=True)
 def part_entry(px, py, dx, dy, vertices, n, r):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``p + t·d`` is within ``r`` of the convex part (``n``
@@ -83,11 +93,8 @@ def part_entry(px, py, dx, dy, vertices, n, r):  # pragma: no cover - compiled
     best = NO_HIT
     inside = True
     for k in range(n):
-        ax, ay = vertices[k, 0], vertices[k, 1]
-        j = k + 1 if k + 1 < n else 0
-        bx, by = vertices[j, 0], vertices[j, 1]
-        if (bx - ax) * (py - ay) - (by - ay) * (px - ax) < 0.0:
-            inside = False
+        ax, ay, bx, by, left = _edge(vertices, n, k, px, py)
+        inside = inside and left
         best = min(best, disc_entry(px, py, dx, dy, ax, ay, r))
         best = min(best, _edge_slab_entry(px, py, dx, dy, ax, ay, bx, by, r))
     return 0.0 if inside else best
@@ -108,7 +115,8 @@ def _wall_entry(q, qd, r, far):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _segment_distance(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
+def _segment_distance2(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
+    """Squared distance from ``p`` to segment ``ab``."""
     ex = bx - ax
     ey = by - ay
     fx = px - ax
@@ -117,7 +125,7 @@ def _segment_distance(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
     s = 0.0 if den == 0.0 else min(max((fx * ex + fy * ey) / den, 0.0), 1.0)
     gx = fx - s * ex
     gy = fy - s * ey
-    return math.sqrt(gx * gx + gy * gy)
+    return gx * gx + gy * gy
 
 
 @njit(cache=True)
@@ -126,13 +134,10 @@ def part_distance(px, py, vertices, n):  # pragma: no cover - compiled
     best = np.inf
     inside = True
     for k in range(n):
-        ax, ay = vertices[k, 0], vertices[k, 1]
-        j = k + 1 if k + 1 < n else 0
-        bx, by = vertices[j, 0], vertices[j, 1]
-        if (bx - ax) * (py - ay) - (by - ay) * (px - ax) < 0.0:
-            inside = False
-        best = min(best, _segment_distance(px, py, ax, ay, bx, by))
-    return 0.0 if inside else best
+        ax, ay, bx, by, left = _edge(vertices, n, k, px, py)
+        inside = inside and left
+        best = min(best, _segment_distance2(px, py, ax, ay, bx, by))
+    return 0.0 if inside else math.sqrt(best)
 
 
 @njit(cache=True)

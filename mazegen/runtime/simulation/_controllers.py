@@ -40,7 +40,7 @@ def straight_command(
     out[1] = params[0] * error
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _closest(path, x, y):  # pragma: no cover - compiled
     """Segment index and fraction of the point of polyline ``path`` nearest ``(x, y)``."""
     best = math.inf
@@ -58,7 +58,7 @@ def _closest(path, x, y):  # pragma: no cover - compiled
     return segment, fraction
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def carrot(path, x, y, reach):  # pragma: no cover - compiled
     """The lookahead point: walking ``path`` on from its point nearest ``(x, y)``, the first point
     ``reach`` away from ``(x, y)``; the path's end when all of it is nearer."""

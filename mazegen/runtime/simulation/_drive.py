@@ -17,14 +17,14 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.runtime.engine.population import Population
-from mazegen.runtime.simulation._choice import FIELDS, MARGINS, Choice, choose
+from mazegen.runtime.simulation._choice import FIELDS, Choice, choose
 from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
 from mazegen.runtime.simulation._fields import floor_fields
 from mazegen.runtime.simulation._lidar import beam_angles
 from mazegen.runtime.simulation._loop import begin_all, run_all
 from mazegen.runtime.simulation._paths import FloorPaths, floor_paths
 from mazegen.runtime.simulation._policy import run_policy
-from mazegen.runtime.simulation._step import CLEARANCE, CX, CY, DISTANCE, new_state
+from mazegen.runtime.simulation._step import CLEARANCE, CX, CY, DISTANCE, Setup, new_state
 from mazegen.runtime.simulation._world import World, world_of
 from mazegen.spec import ControllerSpec, Robot
 
@@ -65,8 +65,7 @@ def drive(
         raise MazeError(f"indices must lie in [0, {population.size}), got {rows.min()}..{rows.max()}")
     poses = _starts(population, m, starts)
     world = world_of(population, rows)
-    margin = (choice.params[-1] if choice.name in MARGINS else 0.0) if choice.path else None
-    paths = floor_paths(population, rows, margin=margin)
+    paths = floor_paths(population, rows, margin=choice.margin)
     optimal = paths.length / robot.max_speed
     max_steps = np.where(
         np.isnan(optimal), 0, np.ceil(robot.timeout * np.nan_to_num(optimal) / robot.step - 1e-9)
@@ -89,7 +88,9 @@ def drive(
     goal = np.array(arena.goal, np.float64)
     angles = beam_angles(robot.beams, robot.fov) if choice.lidar else np.zeros(0)
     stuck_steps = max(1, math.ceil(robot.stuck / robot.step - 1e-9))
-    run = _Run(limits, goal, world, paths, angles, robot.lidar_range, max_steps.astype(np.int32), stuck_steps)
+    run = Setup(
+        limits, goal, world, paths, angles, robot.lidar_range, max_steps.astype(np.int32), stuck_steps
+    )
     trajectory = np.full((m if record else 0, int(max_steps.max(initial=0)) + 1, 3), np.nan)
     if m:
         begin_all(poses, limits, goal, world.arrays, state, outcome)
@@ -115,24 +116,6 @@ def drive(
     )
 
 
-class _Run:
-    """What every episode of one drive reads: limits, goal, floors, paths, lidar, step limits."""
-
-    def __init__(
-        self,
-        limits: np.ndarray,
-        goal: np.ndarray,
-        world: World,
-        paths: FloorPaths,
-        angles: np.ndarray,
-        reach: float,
-        max_steps: np.ndarray,
-        stuck_steps: int,
-    ) -> None:
-        self.limits, self.goal, self.world, self.paths = limits, goal, world, paths
-        self.angles, self.reach, self.max_steps, self.stuck_steps = angles, reach, max_steps, stuck_steps
-
-
 _NO_FIELDS = (np.full((1, 1, 1), np.inf, np.float32), np.zeros((1, 1, 1), np.float32), np.zeros(5))
 """The fields of controllers that read none: one 1×1 dummy shared by every floor."""
 
@@ -143,13 +126,13 @@ a floor, so a drive over many floors holds a chunk's, not all of them."""
 
 
 def _run_with_fields(
-    population: Population, robot: Robot, rows: np.ndarray, choice: Choice, run: _Run, *arrays: np.ndarray
+    population: Population, robot: Robot, rows: np.ndarray, choice: Choice, run: Setup, *arrays: np.ndarray
 ) -> None:
     """Drive chunk after chunk of floors, each with the fields of its floors."""
     world = run.world
     for a in range(0, len(rows), FIELD_CHUNK):
         b = min(a + FIELD_CHUNK, len(rows))
-        part = _Run(
+        part = Setup(
             run.limits,
             run.goal,
             World(world.first[a : b + 1], world.vertices, world.count, world.box, world.size),
@@ -163,24 +146,21 @@ def _run_with_fields(
         _run_bundled(choice, part, fields, *(array[a:b] if len(array) else array for array in arrays))
 
 
-def _run_bundled(choice: Choice, run: _Run, fields: tuple, *arrays: np.ndarray) -> None:
+def _run_bundled(choice: Choice, run: Setup, fields: tuple, *arrays: np.ndarray) -> None:
     blocks = min(len(arrays[0]), 32 * numba.get_num_threads())
     with numba.parallel_chunksize(1):  # episodes differ in length: hand out blocks one at a time
+        paths, fov = (run.paths.corners, run.paths.count), (run.angles, run.reach)
         run_all(
             choice.code,
             choice.params,
-            run.limits,
-            run.goal,
             run.world.arrays,
-            run.paths.corners,
-            run.paths.count,
+            run.episode,
+            *paths,
             fields,
-            run.angles,
-            run.reach,
-            run.max_steps,
-            run.stuck_steps,
+            *fov,
             blocks,
-            *arrays,
+            arrays[:5],
+            arrays[5],
         )
 
 

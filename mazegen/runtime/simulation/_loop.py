@@ -58,32 +58,17 @@ def _record(trajectory, m, step, state):  # pragma: no cover - compiled
 
 @njit(cache=True, parallel=True)
 def run_all(
-    code,
-    params,
-    limits,
-    goal,
-    world,
-    paths,
-    path_count,
-    fields,
-    angles,
-    reach,
-    max_steps,
-    stuck_steps,
-    blocks,
-    state,
-    outcome,
-    steps,
-    progress,
-    stuck,
-    trajectory,
+    code, params, world, episode, paths, path_count, fields, angles, reach, blocks, robots, trajectory
 ):  # pragma: no cover - compiled
     """Drive every active robot to the end of its episode with controller ``code``.
 
+    ``episode`` and ``robots`` are as :func:`mazegen.runtime.simulation._step.advance` takes them;
     ``fields`` is ``(nav, clear, grid)``: per-floor fields, or one dummy shared by all floors;
     ``trajectory`` has no rows unless poses are recorded.
     """
     nav, clear, grid = fields
+    limits, goal = episode[0], episode[1]
+    state, outcome, steps = robots[0], robots[1], robots[2]
     m_all = state.shape[0]
     parts = world[0][1:] - world[0][:-1]
     most = parts.max() if parts.shape[0] else 0
@@ -102,19 +87,5 @@ def run_all(
                 if angles.shape[0]:
                     scan(pose[0], pose[1], pose[2], angles, reach, m, world, near, ranges)
                 command(code, params, limits, pose, goal, nav[f], clear[f], grid, path, ranges, angles, out)
-                advance(
-                    m,
-                    out[0],
-                    out[1],
-                    limits,
-                    goal,
-                    world,
-                    max_steps,
-                    stuck_steps,
-                    state,
-                    outcome,
-                    steps,
-                    progress,
-                    stuck,
-                )
+                advance(m, out[0], out[1], world, episode, robots)
                 _record(trajectory, m, steps[m], state)

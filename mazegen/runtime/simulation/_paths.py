@@ -40,8 +40,9 @@ def floor_paths(population: Population, indices: np.ndarray, *, margin: float | 
     """Paths of individuals ``indices`` of ``population``; their corners too unless ``margin`` is None.
 
     The lengths are MazeGen's (the robot's radius); the corners are those of the path for a robot
-    ``margin`` wider, where there is one, so that a controller cutting corners keeps clear, as a
-    planner's inflation keeps it clear (MazeGen's path touches the configuration space's edge).
+    ``margin`` wider where there is one, else ``margin / 2`` wider, else MazeGen's: a controller
+    cutting corners then keeps clear, as a planner's inflation keeps it clear (MazeGen's path
+    touches the configuration space's edge).
     """
     rows = np.ascontiguousarray(indices, np.int64)
     searched = population.measured.get("navigation")
@@ -53,14 +54,16 @@ def floor_paths(population: Population, indices: np.ndarray, *, margin: float | 
     shapes, ids, n_el, params, valid = kernel_args(population)
     arena = population.arena
     plain = grid_args(grid_of(arena))
-    wide = plain if margin is None else grid_args(grid_of(_wider(arena, margin)))
+    wide = plain if not margin else grid_args(grid_of(_wider(arena, margin)))
+    half = plain if not margin else grid_args(grid_of(_wider(arena, margin / 2)))
     capacity = 0 if margin is None else CORNERS
     while True:
         length = np.full(len(rows), np.nan)
         count = np.zeros(len(rows), np.int64)
         points = np.zeros((len(rows), max(capacity, 1), 2))
         blocks = max(1, min(len(rows), 8 * numba.get_num_threads()))
-        _paths(shapes, ids, n_el, params, valid, rows, plain, wide, capacity, blocks, length, count, points)
+        arrays = (shapes, ids, n_el, params, valid, rows, plain, half, wide, bool(margin))
+        _paths(*arrays, capacity, blocks, length, count, points)
         if count.max(initial=0) <= capacity or margin is None:
             return FloorPaths(length, points, count if margin is not None else np.zeros_like(count))
         capacity = int(count.max())  # a rare path with more corners than CORNERS: once more, wider
@@ -76,14 +79,15 @@ def _wider(arena: Arena, margin: float) -> Arena:
 
 @njit(cache=True, parallel=True)
 def _paths(
-    shapes, ids, n_el, params, valid, rows, plain, wide, capacity, blocks, length, count, points
+    shapes, ids, n_el, params, valid, rows, plain, half, wide, widen, capacity, blocks, length, count, points
 ):  # pragma: no cover
     """Lengths of the paths of ``rows`` on the ``plain`` grid; when ``capacity`` is positive, the
-    corners of the path on the ``wide`` grid (else the plain one) too, or how many there would be
-    when more than ``capacity``."""
+    corners of the path on the widest grid (``wide``, ``half`` when ``widen``, ``plain``) that has one
+    too, or how many there would be when more than ``capacity``."""
     m = rows.shape[0]
     for block in prange(blocks):
         scratch = route_scratch(shapes, ids.shape[1], plain)
+        half_scratch = route_scratch(shapes, ids.shape[1], half)
         wide_scratch = route_scratch(shapes, ids.shape[1], wide)
         for j in range(block * m // blocks, (block + 1) * m // blocks):
             i = rows[j]
@@ -96,9 +100,15 @@ def _paths(
             if capacity == 0:
                 continue
             corners = scratch[5]
-            _, wide_found, _, wide_turns = route(shapes, ids[i], n_el[i], params[i], wide, wide_scratch)
-            if wide_found:
+            found, wide_turns = False, 0
+            if widen:
+                _, found, _, wide_turns = route(shapes, ids[i], n_el[i], params[i], wide, wide_scratch)
+            if found:
                 corners, turns = wide_scratch[5], wide_turns
+            elif widen:
+                _, found, _, half_turns = route(shapes, ids[i], n_el[i], params[i], half, half_scratch)
+                if found:
+                    corners, turns = half_scratch[5], half_turns
             count[j] = turns
             if turns <= capacity:
                 points[j, :turns] = corners[:turns]

@@ -12,17 +12,14 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numba import njit, prange
 
 from mazegen.errors import MazeError
 from mazegen.runtime.simulation._lidar import scan
-from mazegen.runtime.simulation._step import ACTIVE, THETA, V, W, X, Y, advance
-
-if TYPE_CHECKING:
-    from mazegen.runtime.simulation._drive import _Run
+from mazegen.runtime.simulation._step import ACTIVE, THETA, Setup, V, W, X, Y, advance
 
 
 @dataclass(frozen=True)
@@ -53,7 +50,7 @@ class Observations:
 def run_policy(
     name: str,
     policy: Callable[[Observations], Any],
-    run: _Run,
+    run: Setup,
     rows: np.ndarray,
     state: np.ndarray,
     outcome: np.ndarray,
@@ -63,35 +60,21 @@ def run_policy(
     trajectory: np.ndarray,
 ) -> None:
     """Drive every active robot to the end of its episode with ``policy``, one call per step."""
-    world = run.world.arrays
-    most = int(np.diff(world[0]).max(initial=0))
+    most = int(np.diff(run.world.first).max(initial=0))
     active = np.flatnonzero(outcome == ACTIVE)
     _record(active, 0, state, trajectory)
     step = 0
     while active.size:
         observations = _observe(run, rows, active, state, step, most)
         actions = _actions(name, policy, observations, step)
-        _apply(
-            active,
-            actions,
-            run.limits,
-            run.goal,
-            world,
-            run.max_steps,
-            run.stuck_steps,
-            state,
-            outcome,
-            steps,
-            progress,
-            stuck,
-        )
+        _apply(active, actions, run.world.arrays, run.episode, (state, outcome, steps, progress, stuck))
         step += 1
         _record(active, step, state, trajectory)
         active = active[outcome[active] == ACTIVE]
 
 
 def _observe(
-    run: _Run, rows: np.ndarray, active: np.ndarray, state: np.ndarray, step: int, most: int
+    run: Setup, rows: np.ndarray, active: np.ndarray, state: np.ndarray, step: int, most: int
 ) -> Observations:
     n = active.size
     ranges = np.empty((n, run.angles.size))
@@ -148,22 +131,6 @@ def _observe_kernel(active, state, goal, angles, reach, world, most, ranges, to_
 
 
 @njit(cache=True, parallel=True)
-def _apply(
-    active, actions, limits, goal, world, max_steps, stuck_steps, state, outcome, steps, progress, stuck
-):  # pragma: no cover
+def _apply(active, actions, world, episode, robots):  # pragma: no cover - compiled
     for j in prange(active.shape[0]):
-        advance(
-            active[j],
-            actions[j, 0],
-            actions[j, 1],
-            limits,
-            goal,
-            world,
-            max_steps,
-            stuck_steps,
-            state,
-            outcome,
-            steps,
-            progress,
-            stuck,
-        )
+        advance(active[j], actions[j, 0], actions[j, 1], world, episode, robots)

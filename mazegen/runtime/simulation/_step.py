@@ -14,7 +14,8 @@ count, the step of its last progress toward the goal and whether it ended stuck.
 4. The episode ends: **arrived** when the segment comes within ``goal_tolerance`` of the goal
    (before any contact); **collision** at the first contact, the robot left at the start of the
    step's segment and the contact centre kept; **timeout** after ``max_steps`` steps or, stuck,
-   after ``stuck_steps`` steps without a new best distance to the goal.
+   after ``stuck_steps`` steps without a new best distance to the goal (better by at least
+   :data:`PROGRESS` of a step at top speed).
 
 The clearance (closest approach of the robot's edge) is taken at every pose, computed exactly
 whenever the lower bound cannot rule out a new minimum.
@@ -23,6 +24,7 @@ whenever the lower bound cannot rule out a new minimum.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -39,6 +41,8 @@ from mazegen.runtime.simulation._controllers import (
     TURN_ACCEL,
 )
 from mazegen.runtime.simulation._episodes import ARRIVED, COLLISION, TIMEOUT
+from mazegen.runtime.simulation._paths import FloorPaths
+from mazegen.runtime.simulation._world import World
 
 ACTIVE = -1
 """The outcome of an episode still running."""
@@ -48,6 +52,10 @@ X, Y, THETA, V, W, DISTANCE, CLEARANCE, SAFE, BEST, CX, CY = range(11)
 of the distance to obstacles, best distance to the goal so far, contact centre."""
 COLUMNS = 11
 LOOKOUT = 8
+"""Steps at top speed beyond the closest approach so far that distances are searched to."""
+PROGRESS = 0.01
+"""Progress is a new best distance to the goal by at least this fraction of a step at top speed:
+creeping ever closer by less does not hold off the stuck timeout."""
 """Steps at top speed beyond the closest approach so far that distances are searched to."""
 
 
@@ -61,6 +69,27 @@ def new_state(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, n
         np.zeros(m, np.int32),
         np.zeros(m, np.bool_),
     )
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What every episode of one drive reads: the robot's limits (in the order of
+    :data:`mazegen.runtime.simulation._controllers.LIMITS`), the goal, the floors' parts and paths,
+    the lidar's beam angles and range, the step limits."""
+
+    limits: np.ndarray
+    goal: np.ndarray
+    world: World
+    paths: FloorPaths
+    angles: np.ndarray
+    reach: float
+    max_steps: np.ndarray
+    stuck_steps: int
+
+    @property
+    def episode(self) -> tuple:
+        """``(limits, goal, max_steps, stuck_steps)``: what the step kernel reads besides the parts."""
+        return self.limits, self.goal, self.max_steps, self.stuck_steps
 
 
 @njit(cache=True)
@@ -86,22 +115,16 @@ def _window(command, current, change, low, high):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def advance(
-    m,
-    command_v,
-    command_w,
-    limits,
-    goal,
-    world,
-    max_steps,
-    stuck_steps,
-    state,
-    outcome,
-    steps,
-    progress,
-    stuck,
-):  # pragma: no cover
-    """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring."""
+def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cover - compiled
+    """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring.
+
+    ``world`` is the floors' parts (:class:`mazegen.runtime.simulation._world.World`'s arrays);
+    ``episode`` is ``(limits, goal, max_steps, stuck_steps)``: what every robot of a drive reads;
+    ``robots`` is ``(state, outcome, steps, progress, stuck)``: what they write. (The parts are not
+    in ``episode``: numba's parallel loops take no tuple nested in a tuple.)
+    """
+    limits, goal, max_steps, stuck_steps = episode
+    state, outcome, steps, progress, stuck = robots
     dt = limits[STEP]
     r = limits[RADIUS]
     v = _window(command_v, state[m, V], limits[ACCEL] * dt, limits[MIN_SPEED], limits[MAX_SPEED])
@@ -135,8 +158,8 @@ def advance(
     if reach <= 1.0:
         outcome[m] = ARRIVED
         return
-    to_goal = math.hypot(goal[0] - x1, goal[1] - y1)
-    if to_goal < state[m, BEST]:
+    to_goal = math.sqrt((goal[0] - x1) ** 2 + (goal[1] - y1) ** 2)
+    if to_goal < state[m, BEST] - PROGRESS * limits[MAX_SPEED] * dt:
         state[m, BEST] = to_goal
         progress[m] = steps[m]
     if steps[m] >= max_steps[m]:

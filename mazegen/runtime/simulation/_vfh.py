@@ -41,20 +41,20 @@ def vfh_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
     seen = np.zeros(n, np.bool_)
     window, reach = params[WINDOW], limits[RADIUS] + params[SAFETY]
     for b in range(scan.shape[0]):
-        seen[_sector(angles[b], width, n)] = True
+        own = _sector(angles[b], width, n)
+        seen[own] = True
         d = scan[b]
         if d >= window:
             continue
         weight = 1.0 - d / window
-        own = _sector(angles[b], width, n)
         density[own] = max(density[own], weight)
-        # The enlargement: every sector whose centre lies within the angle the robot subtends.
+        # The enlargement: every sector whose centre, -pi + (k + 0.5) width, lies within the
+        # angle the robot subtends (k counted on past the circle's ends, then wrapped).
         spread = math.pi / 2 if d <= reach else math.asin(reach / d)
-        first = _sector(angles[b] - spread, width, n)
-        for k in range(min(int(spread * 2.0 / width) + 2, n)):
-            s = (first + k) % n
-            if abs(wrap((s + 0.5) * width - math.pi - angles[b])) <= spread:
-                density[s] = max(density[s], weight)
+        centre = (angles[b] + math.pi) / width - 0.5
+        for k in range(math.ceil(centre - spread / width), math.floor(centre + spread / width) + 1):
+            s = k % n
+            density[s] = max(density[s], weight)
     threshold = params[THRESHOLD]
     bearing = wrap(math.atan2(goal[1] - pose[1], goal[0] - pose[0]) - pose[2])
     target = _sector(bearing, width, n)
@@ -112,4 +112,6 @@ def _opening(density, seen, threshold, width, wide, bearing):  # pragma: no cove
 @njit(cache=True, inline="always")
 def _sector(angle, width, n):  # pragma: no cover - compiled
     """The sector holding ``angle`` (radians from the heading); sector 0 starts at -pi."""
-    return min(int((wrap(angle) + math.pi) / width), n - 1)
+    if not -math.pi <= angle < math.pi:  # beam angles are already: no remainder to take
+        angle = wrap(angle)
+    return min(int((angle + math.pi) / width), n - 1)

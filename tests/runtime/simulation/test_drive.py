@@ -36,7 +36,7 @@ def test_in_an_empty_arena_the_robot_arrives_in_the_optimal_time_within_one_step
 
 def test_a_wall_across_the_floor_fails_every_controller():
     floors = population(CORRIDOR, [[("vwall", 500, 300, 20, 600, 0)]])
-    for name in BUNDLED:
+    for name in (*BUNDLED, "dwa", "vfh"):
         episodes = drive(floors, robot=robot_for(CORRIDOR), controller=name)
         assert (
             episodes.outcome[0] == NO_PATH and np.isnan(episodes.optimal_time[0]) and episodes.steps[0] == 0
@@ -44,11 +44,12 @@ def test_a_wall_across_the_floor_fails_every_controller():
         assert episodes.failed[0] and episodes.score()[0] == 0.0
 
 
-def test_straight_fails_behind_a_u_shaped_trap_while_purepursuit_arrives():
+def test_straight_fails_behind_a_u_shaped_trap_while_purepursuit_and_dwa_arrive():
     floors = population(CORRIDOR, [U_TRAP])
     robot = robot_for(CORRIDOR)
     assert drive(floors, robot=robot, controller="straight").outcome[0] != ARRIVED
     assert drive(floors, robot=robot, controller="purepursuit").outcome[0] == ARRIVED
+    assert drive(floors, robot=robot, controller="dwa").outcome[0] == ARRIVED
 
 
 def test_purepursuit_arrives_along_a_zigzag_and_keeps_clear():

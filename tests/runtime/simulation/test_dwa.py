@@ -12,7 +12,7 @@ import pytest
 
 from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.paths import path_of
-from mazegen.runtime.simulation import drive
+from mazegen.runtime.simulation import _drive, drive
 from mazegen.runtime.simulation._dwa import LETHAL, dwa_command
 from mazegen.runtime.simulation._episodes import ARRIVED
 from mazegen.runtime.simulation._fields import floor_fields
@@ -47,7 +47,7 @@ def reference(params, pose, nav, clear, grid, path):
     max_speed, min_speed, max_turn, accel, turn_accel, dt, radius, _ = LIMITS
     v_lo, v_hi = max(min_speed, v_now - accel * dt), min(max_speed, v_now + accel * dt)
     w_lo, w_hi = max(-max_turn, w_now - turn_accel * dt), min(max_turn, w_now + turn_accel * dt)
-    nv, nw, horizon, occ, pdist, gdist, inflation, decay, resolution, forward = params
+    nv, nw, horizon, occ, pdist, gdist, inflation, decay, resolution, forward, _ = params
     speeds = np.linspace(v_lo, v_hi, int(nv))
     turns = (
         [0.0, *np.linspace(w_lo, w_hi, int(nw) - 1)]
@@ -219,3 +219,15 @@ def test_dwa_drives_alike_on_one_thread_and_on_two():
     assert (one.outcome == ARRIVED).sum() >= 3
     assert one.outcome.tobytes() == two.outcome.tobytes()
     assert one.trajectory.tobytes() == two.trajectory.tobytes()
+
+
+def test_dwa_drives_alike_in_chunks_of_floors(monkeypatch):
+    # The fields are built a chunk of floors at a time: chunks of 4 drive as one chunk does.
+    rng = np.random.default_rng(9)
+    pop = population(ARENA, [*random_floors(rng, 9, ARENA), U_TRAP])
+    whole = drive(pop, robot=ROBOT, controller="dwa", record=True)
+    monkeypatch.setattr(_drive, "FIELD_CHUNK", 4)
+    chunked = drive(pop, robot=ROBOT, controller="dwa", record=True)
+    assert (whole.outcome == ARRIVED).sum() >= 3
+    assert whole.outcome.tobytes() == chunked.outcome.tobytes()
+    assert whole.trajectory.tobytes() == chunked.trajectory.tobytes()

@@ -6,21 +6,10 @@ import math
 
 import numpy as np
 import pytest
-import shapely
-from shapely.geometry import LineString, Point
+from shapely.geometry import Point
 
 from mazegen.runtime.simulation._lidar import beam_angles, scan
-from tests.runtime.simulation.worlds import SIZE, outline, random_parts, walls, world
-
-
-def reference_range(obstacles, x: float, y: float, angle: float, reach: float) -> float:
-    """Distance along the ray to the first part or wall it meets, at most ``reach``."""
-    ray = LineString([(x, y), (x + reach * math.cos(angle), y + reach * math.sin(angle))])
-    met = ray.intersection(shapely.union(obstacles.boundary, walls()) if not obstacles.is_empty else walls())
-    return min(
-        (Point(x, y).distance(piece) for piece in getattr(met, "geoms", [met]) if not piece.is_empty),
-        default=reach,
-    )
+from tests.runtime.simulation.worlds import SIZE, outline, random_parts, reference_range, world
 
 
 def test_ranges_match_shapely_ray_intersections():

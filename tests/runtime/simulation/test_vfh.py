@@ -5,14 +5,15 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 import pytest
 
 from mazegen.runtime.simulation import drive
-from mazegen.runtime.simulation._episodes import ARRIVED
+from mazegen.runtime.simulation._episodes import ARRIVED, NO_PATH
 from mazegen.runtime.simulation._lidar import beam_angles
 from mazegen.runtime.simulation._vfh import vfh_command
-from tests.runtime.floors import ARENA, population
+from tests.runtime.floors import ARENA, population, random_floors
 from tests.runtime.simulation.kernel_args import LIMITS, ROBOT, params_of
 
 PARAMS = params_of("vfh")
@@ -118,3 +119,21 @@ def test_vfh_drives_the_open_floor_and_fails_behind_a_wall(floor, arrives):
     # An empty arena, a wall across it (no way through), a wall with a gap at the top.
     episodes = drive(population(ARENA, [floor]), robot=ROBOT, controller="vfh")
     assert (episodes.outcome[0] == ARRIVED) == arrives
+
+
+def test_vfh_drives_alike_on_one_thread_and_on_two():
+    rng = np.random.default_rng(8)
+    pop = population(ARENA, [[], *random_floors(rng, 12, ARENA)])
+    before = numba.get_num_threads()
+    try:
+        runs = []
+        for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
+            numba.set_num_threads(threads)
+            runs.append(drive(pop, robot=ROBOT, controller="vfh", record=True))
+    finally:
+        numba.set_num_threads(before)
+    one, two = runs
+    assert (one.outcome == ARRIVED).sum() >= 1
+    assert (one.outcome != NO_PATH).sum() >= 4
+    assert one.outcome.tobytes() == two.outcome.tobytes()
+    assert one.trajectory.tobytes() == two.trajectory.tobytes()

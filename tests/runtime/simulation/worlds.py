@@ -3,9 +3,11 @@ outlines as the plain reference."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import shapely
-from shapely.geometry import Polygon, box
+from shapely.geometry import LineString, Point, Polygon, box
 
 from mazegen.runtime.simulation._world import World
 
@@ -48,3 +50,12 @@ def outline(parts: list[np.ndarray]):
 def walls(size: tuple[float, float] = SIZE):
     """The arena's boundary as a shapely line: its walls."""
     return box(0, 0, *size).exterior
+
+
+def reference_range(obstacles, x: float, y: float, angle: float, reach: float, size=SIZE) -> float:
+    """Distance along the ray to the first part or wall it meets, at most ``reach``."""
+    ray = LineString([(x, y), (x + reach * math.cos(angle), y + reach * math.sin(angle))])
+    edges = walls(size) if obstacles.is_empty else shapely.union(obstacles.boundary, walls(size))
+    met = ray.intersection(edges)
+    pieces = [piece for piece in getattr(met, "geoms", [met]) if not piece.is_empty]
+    return min((Point(x, y).distance(piece) for piece in pieces), default=reach)
