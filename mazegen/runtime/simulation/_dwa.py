@@ -8,8 +8,9 @@ Every control step (the simulation step) the planner samples velocities in the d
 - speeds: ``v_samples`` evenly over the window, ends included; turn rates: 0 (when the window
   holds it, as base_local_planner always tries it first) and ``w_samples - 1`` evenly over the
   window, ends included;
-- a rollout is the exact arc, checked at points at most half a cell apart (base_local_planner's
-  ``sim_granularity``) against the clearance field: one that comes within the robot's radius of
+- a rollout is the exact arc, checked at points at most a cell apart (base_local_planner's
+  ``sim_granularity``; the clearance field changes by at most that much between them) against
+  the clearance field: one that comes within the robot's radius of
   an obstacle (an inflated obstacle) or ends where the navigation function is ``inf`` is
   discarded. When the robot already stands that close (the raster is coarser than the exact
   geometry the simulator collides with), an arc is discarded only where it gets closer still;

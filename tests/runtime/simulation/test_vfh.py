@@ -9,7 +9,7 @@ import numba
 import numpy as np
 import pytest
 
-from mazegen.runtime.simulation import drive
+from mazegen.runtime.simulation import _choice, drive
 from mazegen.runtime.simulation._episodes import ARRIVED, NO_PATH
 from mazegen.runtime.simulation._lidar import beam_angles
 from mazegen.runtime.simulation._vfh import vfh_command
@@ -137,3 +137,15 @@ def test_vfh_drives_alike_on_one_thread_and_on_two():
     assert (one.outcome != NO_PATH).sum() >= 4
     assert one.outcome.tobytes() == two.outcome.tobytes()
     assert one.trajectory.tobytes() == two.trajectory.tobytes()
+
+
+def test_vfh_drives_alike_with_its_lidar_cast_only_as_far_as_its_window(monkeypatch):
+    # vfh ignores readings beyond its window, so the lidar is cast no farther: same commands.
+    rng = np.random.default_rng(3)
+    pop = population(ARENA, [[], *random_floors(rng, 7, ARENA)])
+    assert _choice.lidar_reach(_choice.choose("vfh", ROBOT, ARENA), ROBOT) == PARAMS[3] < ROBOT.lidar_range
+    short = drive(pop, robot=ROBOT, controller="vfh", record=True)
+    monkeypatch.setattr(_choice, "WINDOWS", {})
+    full = drive(pop, robot=ROBOT, controller="vfh", record=True)
+    assert (full.outcome != NO_PATH).sum() >= 3
+    assert short.trajectory.tobytes() == full.trajectory.tobytes()
