@@ -393,6 +393,12 @@ class Spec:
         """Whether a fitness term reads the difficulty metrics (not just solvability)."""
         return any(term.kind in ("difficulty", "metric") for term in self.fitness)
 
+    @property
+    def drive_controllers(self) -> tuple[str, ...]:
+        """The controllers the drive terms name, each once, in order (none: the spec drives no robot)."""
+        named = (name for term in self.fitness if term.kind == "drive" for name in term.controllers)
+        return tuple(dict.fromkeys(named))
+
     def with_evolution(self, **changes: Any) -> Spec:
         """Return a copy with some evolution settings replaced."""
         changes = {k: v for k, v in changes.items() if v is not None}

@@ -17,10 +17,22 @@ scenario s on floor { elements box max elements 6 }
 """
 
 
-def outcome_of(index: int) -> int:
-    """A made-up outcome of the floor in row ``index`` of a population (the same for every
-    controller but ``straight``, which fails where the others arrive)."""
-    return (ARRIVED, COLLISION, ARRIVED, TIMEOUT)[index % 4]
+def floor_code(population, index: int) -> int:
+    """A number made of the floor in row ``index`` (its elements' placements), so that the same floor
+    fares the same in any population, at any row."""
+    placed = population.params[index, : population.n_elements[index]]
+    return int(abs(placed.sum()) * 7) % 1000
+
+
+def outcome_of(population, index: int) -> int:
+    """A made-up outcome of a floor (the same for every controller but ``straight``, which fails
+    where the others arrive)."""
+    return (ARRIVED, COLLISION, ARRIVED, TIMEOUT)[floor_code(population, index) % 4]
+
+
+def has_path(population, index: int) -> bool:
+    """Whether the fake finds a path on a floor: not on every fifth."""
+    return floor_code(population, index) % 5 != 4
 
 
 @dataclass
@@ -31,19 +43,19 @@ class FakeDrive:
 
     def __call__(self, population, *, robot, controller, indices=None, **options) -> Episodes:
         name = controller.name
-        rows = np.asarray(indices, dtype=np.int64)
+        rows = np.flatnonzero(population.valid) if indices is None else np.asarray(indices, dtype=np.int64)
         self.calls.append((name, rows.copy()))
-        outcome = np.array([outcome_of(int(i)) for i in rows], dtype=np.int8)
+        outcome = np.array([outcome_of(population, int(i)) for i in rows], dtype=np.int8)
         if name == "straight":
             outcome = np.where(outcome == ARRIVED, COLLISION, ARRIVED).astype(np.int8)
         n = rows.size
-        optimal = np.where(rows % 5 == 4, np.nan, 10.0)  # every fifth floor has no path
+        optimal = np.array([10.0 if has_path(population, int(i)) else np.nan for i in rows])
         return Episodes(
             controller=name,
             outcome=outcome,
             time=np.full(n, 25.0),
             distance=np.full(n, 12.5),
-            clearance=rows.astype(np.float64),
+            clearance=np.array([float(floor_code(population, int(i))) for i in rows]),
             optimal_time=optimal,
             steps=np.full(n, 250, dtype=np.int32),
             collision=np.full((n, 2), np.nan),

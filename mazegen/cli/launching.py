@@ -86,11 +86,14 @@ def compile_first(source: Spec | Path | Problem, executor: str, reporter: Report
     in the API: a helper process imports the program's main module, which this command's is safe
     for and a script's may not be. A Dask cluster's workers compile for themselves.
     """
-    from mazegen.runtime import kernels_cached
+    from mazegen.runtime import kernels_cached, run_kernels
+    from mazegen.runtime.engine.problem import Problem, read_build_spec
 
-    if executor == "dask" or kernels_cached():
+    if executor == "dask":
         return
-    from mazegen.runtime.engine.problem import Problem
+    spec = source.spec if isinstance(source, Problem) else source
+    if kernels_cached(run_kernels(read_build_spec(spec) if isinstance(spec, Path) else spec)):
+        return
     from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
     from mazegen.runtime.runs.warmup import compile_kernels
 

@@ -25,7 +25,8 @@ ENTRY_POINT_GROUP = "mazegen.controllers"
 @dataclass(frozen=True)
 class _Setting:
     """One number of the robot block: how it is written, the Robot field it sets, its bounds as
-    written (``open_low``: the low bound itself is refused) and whether degrees become radians."""
+    written (``open_low``: the low bound itself is refused), and whether it is written in degrees
+    (the Robot holds radians)."""
 
     label: str
     field: str
@@ -34,7 +35,6 @@ class _Setting:
     unit: str
     open_low: bool = True
     degrees: bool = False
-    whole: bool = False
 
 
 _SETTINGS = {
@@ -49,7 +49,9 @@ _SETTINGS = {
         _Setting("goal tolerance", "goal_tolerance", 0, MAX_LENGTH, "arena units"),
         _Setting("timeout factor", "timeout", 1, 1000, "times the optimal time", open_low=False),
         _Setting("stuck", "stuck", 0, 3600, "seconds"),
-        _Setting("beams", "beams", 1, 3600, "beams", open_low=False, whole=True),
+        _Setting(
+            "beams", "beams", 1, 3600, "beams", open_low=False
+        ),  # a whole number, as the grammar reads it
         _Setting("fov", "fov", 0, 360, "degrees", degrees=True),
         _Setting("range", "lidar_range", 0, MAX_LENGTH, "arena units"),
     )

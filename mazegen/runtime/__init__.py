@@ -3,12 +3,18 @@
 The runtime never imports textX: a Spec is plain data.
 """
 
+from __future__ import annotations
+
 import hashlib
 import os
 import shutil
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numba
+
+if TYPE_CHECKING:
+    from mazegen.spec import Spec
 
 # With OpenMP's default active waiting every parallel numba call costs ~45 ms on a busy machine.
 os.environ.setdefault("OMP_WAIT_POLICY", "passive")
@@ -62,6 +68,20 @@ both was never filled, or its filling was cut short."""
 SCORE_KERNELS = ("difficulty._survey_all",)
 """The kernel every ``mazegen score`` calls, and the longest to compile: the scenario metrics'
 (score maps no genome, so a run's mapping kernel is no sign of a cache score can use)."""
+
+
+DRIVE_KERNELS = {"bundled": ("_loop.run_all",), "policy": ("_policy._apply",)}
+"""The simulator's episode loops, by the kind of controller they drive: every generation of a spec
+with drive terms calls one (or both)."""
+
+
+def run_kernels(spec: Spec) -> tuple[str, ...]:
+    """The kernels every run of ``spec`` calls: a run's, and the simulator's episode loop for each kind
+    of controller its drive terms name (a spec without drive terms loads none of the simulator)."""
+    from mazegen.controllers import BUNDLED
+
+    kinds = sorted({"bundled" if name in BUNDLED else "policy" for name in spec.drive_controllers})
+    return EVERY_RUN_KERNELS + tuple(kernel for kind in kinds for kernel in DRIVE_KERNELS[kind])
 
 
 def kernels_cached(kernels: tuple[str, ...] = EVERY_RUN_KERNELS) -> bool:

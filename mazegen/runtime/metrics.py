@@ -124,11 +124,12 @@ def _type_counts(ids, n_elements, n_types):  # pragma: no cover - compiled
 def drive_selection(
     pop: Population, scores: dict[str, np.ndarray], rejected: np.ndarray, fraction: float
 ) -> np.ndarray:
-    """Which individuals to drive: the best ``fraction`` of the population by the sum of the (static)
-    ``scores``, ⌈fraction × size⌉ at most, among the valid ones not ``rejected``; every one of
-    those for a fraction of 1. Ties keep index order; the indices ascend."""
+    """Which individuals to drive: in a search (:attr:`Population.searching`), the best ``fraction`` of
+    the population by the sum of the (static) ``scores``, ⌈fraction × size⌉ at most, among the valid
+    ones not ``rejected``; every one of those for a fraction of 1, or outside a search (written
+    scenarios carry their whole fitness). Ties keep index order; the indices ascend."""
     kept = np.flatnonzero(pop.valid & ~np.asarray(rejected, dtype=bool))
-    if fraction >= 1:
+    if fraction >= 1 or not pop.searching:
         return kept
     total = np.zeros(pop.size)
     for values in scores.values():

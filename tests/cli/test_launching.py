@@ -26,7 +26,7 @@ def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
         (False, "local", 1),
         (False, "serial", 1),
     ):
-        monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda cached=cached: cached)
+        monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(), cached=cached: cached)
         compiled.clear()
         for source in (spec, tmp_path / "build", problem):  # a spec, a build directory, a loaded problem
             reporter = Notes()

@@ -18,6 +18,7 @@ SOURCES = tuple(
             *ROOT.glob("examples/*.maze"),
             *ROOT.glob("examples/table1/*.maze"),
             *ROOT.glob("mazegen/library/*.maze"),
+            *ROOT.glob("tests/dsl/sources/*.maze"),  # what the examples do not show: driving a robot
         ]
     )
 )

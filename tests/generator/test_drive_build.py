@@ -3,13 +3,12 @@
 from __future__ import annotations
 
 import re
-import subprocess
-import sys
 
 from mazegen.dsl.loader import load_spec
 from mazegen.generator.build import build, render_artifacts
 from tests.conftest import ROOT
 from tests.drive_fakes import DRIVE_SPEC
+from tests.generator.test_build import assert_ruff_clean
 
 DRIVING = (
     DRIVE_SPEC
@@ -56,21 +55,7 @@ def test_a_spec_without_drive_terms_drives_nothing(write_spec):
 def test_generated_drive_code_compiles_and_passes_ruff(write_spec, tmp_path):
     build(load_spec(write_spec(DRIVING)), tmp_path)
     compile((tmp_path / "fitness.py").read_text(), "fitness.py", "exec")
-    lint = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "ruff",
-            "check",
-            "--isolated",
-            "--select",
-            "E,F,W,I,B,UP",
-            tmp_path / "fitness.py",
-        ],
-        capture_output=True,
-        text=True,
-    )
-    assert lint.returncode == 0, lint.stdout + lint.stderr
+    assert_ruff_clean(tmp_path / "fitness.py")
 
 
 def test_the_docs_show_the_code_generated_for_their_driving_spec(tmp_path):

@@ -3,6 +3,7 @@ population, no drive of a cached genome, and no simulator loaded by a spec that 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import subprocess
 import sys
@@ -14,9 +15,9 @@ from mazegen.runtime import metrics, simulation
 from mazegen.runtime.engine import operators as ops
 from mazegen.runtime.engine.evolution import evolve
 from mazegen.runtime.simulation import ARRIVED
-from mazegen.spec import Evolution
+from mazegen.spec import Evolution, FitnessTerm
 from tests.conftest import EXAMPLES
-from tests.drive_fakes import DRIVE_SPEC, FakeDrive, build_problem, outcome_of
+from tests.drive_fakes import DRIVE_SPEC, FakeDrive, build_problem, floor_code, has_path, outcome_of
 
 DRIVING = (
     DRIVE_SPEC
@@ -50,7 +51,7 @@ def decoded(problem, size: int, seed: int = 3):
     rng = np.random.default_rng(seed)
     codons = ops.random_codons(rng, size, problem.spec.evolution.genome, problem.spec.evolution.codon_max)
     genes = ops.random_genes(rng, size, problem.slots)
-    return problem.decode(codons, genes)[1]
+    return problem.decode(codons, genes, searching=True)[1]
 
 
 def test_the_best_fraction_of_those_kept_is_driven_once_per_controller(driving, fake_drive):
@@ -74,18 +75,18 @@ def test_each_drive_term_scores_what_the_docs_say(driving, fake_drive):
     for key in ("dwa_fails", "dwa_time", "dwa_clearance", "dwa_straight_disagree"):
         assert not scores[key][undriven].any(), key  # no credit
     for row in driven:
-        if row % 5 == 4:  # no path: nothing to judge
+        if not has_path(pop, row):  # no path: nothing to judge
             assert [scores[key][row] for key in ("dwa_fails", "dwa_time", "dwa_straight_disagree")] == [
                 0,
                 0,
                 0,
             ]
             continue
-        failed = outcome_of(int(row)) != ARRIVED
+        failed = outcome_of(pop, int(row)) != ARRIVED
         assert scores["dwa_fails"][row] == (2.0 if failed else 0.0)
         ratio = 6.0 if failed else 25.0 / 10.0  # a failure counts as the timeout factor
         assert scores["dwa_time"][row] == pytest.approx(math.exp(-(ratio - 4) / 2) if ratio > 4 else 1.0)
-        assert scores["dwa_clearance"][row] == row  # the fake's closest approach
+        assert scores["dwa_clearance"][row] == floor_code(pop, row)  # the fake's closest approach
         assert scores["dwa_straight_disagree"][row] == 1.0
 
 
@@ -181,3 +182,86 @@ def test_a_run_scores_drive_terms_with_the_simulator(tmp_path):
     ratio = np.where(pursuit.failed, problem.spec.robot.timeout, pursuit.time / pursuit.optimal_time)
     assert np.allclose(scores["purepursuit_time"][driven], metrics.closeness(ratio, 1.0, 3.0))
     assert not scores["straight_fails"][np.setdiff1d(np.arange(pop.size), driven)].any()
+
+
+def test_a_run_of_a_driving_spec_waits_for_the_simulators_kernels(driving, tmp_path):
+    from mazegen.runtime import DRIVE_KERNELS, EVERY_RUN_KERNELS, run_kernels
+
+    assert run_kernels(driving.spec) == EVERY_RUN_KERNELS + DRIVE_KERNELS["bundled"]
+    plain = build_problem(DRIVE_SPEC + "robot { drive all }\nfitness { count }\n", tmp_path)
+    assert run_kernels(plain.spec) == EVERY_RUN_KERNELS
+    policy = dataclasses.replace(
+        driving.spec, fitness=(FitnessTerm("drive", metric="fails", controllers=("my.pkg:policy",)),)
+    )
+    assert run_kernels(policy) == EVERY_RUN_KERNELS + DRIVE_KERNELS["policy"]
+
+
+def test_the_first_run_says_it_compiles_when_only_the_simulator_is_missing(driving, monkeypatch, capsys):
+    import mazegen.runtime
+    from mazegen.cli.launching import compile_first
+    from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE, QuietReporter
+
+    asked: list[tuple[str, ...]] = []
+
+    def cached(kernels=()):
+        asked.append(kernels)
+        return not any(kernel.startswith("_loop.") for kernel in kernels)
+
+    compiled = []
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", cached)
+    monkeypatch.setattr(
+        "mazegen.runtime.runs.warmup.compile_kernels", lambda problem: compiled.append(problem.spec.name)
+    )
+    compile_first(driving, "serial", QuietReporter())
+    assert "_loop.run_all" in asked[-1]
+    assert compiled == [driving.spec.name]
+    assert FIRST_COMPILE_NOTE in capsys.readouterr().err
+
+
+def test_the_warm_up_drives_each_controller_once(driving, fake_drive):
+    from mazegen.runtime.runs.warmup import compile_path_kernels
+
+    compile_path_kernels(driving.spec)
+    assert [name for name, _ in fake_drive.calls] == ["dwa", "straight"]
+    fake_drive.calls.clear()
+    compile_path_kernels(dataclasses.replace(driving.spec, fitness=(FitnessTerm("count"),)))
+    assert fake_drive.calls == []
+
+
+def test_outside_a_search_every_individual_kept_is_driven(driving, fake_drive):
+    rng = np.random.default_rng(3)
+    codons = ops.random_codons(rng, 60, driving.spec.evolution.genome, driving.spec.evolution.codon_max)
+    genes = ops.random_genes(rng, 60, driving.slots)
+    evaluation = driving.evaluate(codons, genes)
+    pop = evaluation.population
+    kept = np.flatnonzero(pop.valid & ~driving.fitness_module.rejected(pop))
+    assert np.array_equal(fake_drive.calls[0][1], kept)
+    driving.evaluate(codons, genes, searching=True)
+    assert fake_drive.calls[-1][1].size == math.ceil(0.25 * 60) < kept.size
+
+
+def fails_in_document(problem, document) -> bool:
+    """Whether the fake fails on a scenario document's floor (decoded from its genome) with a path."""
+    codons = np.array([document["origin"]["codons"]])
+    genes = np.array([document["origin"]["placement"]])
+    floor = problem.decode(codons, genes)[1]
+    return has_path(floor, 0) and outcome_of(floor, 0) != ARRIVED
+
+
+def test_the_best_scenarios_written_carry_their_whole_fitness(tmp_path, fake_drive):
+    from mazegen.runtime.documents.best import best_documents
+
+    problem = build_problem(DRIVING.replace("drive best 0.25", "drive best 0.1"), tmp_path)
+    result = evolve(problem, Evolution(population=40, generations=2), np.random.default_rng(2))
+    documents = best_documents(problem, result, count=10, origin={})
+    assert len(documents) >= 6
+    assert sum(document["terms"]["dwa_fails"] > 0 for document in documents) > 4  # more than 0.1 × 40
+    for document in documents:
+        genome = np.flatnonzero(
+            (result.codons == document["origin"]["codons"]).all(axis=1)
+            & (result.genes == np.array(document["origin"]["placement"])).all(axis=(1, 2))
+        )
+        # Every scenario written is driven: its fitness is the run's when the run drove it, more when
+        # the run scored it on its static terms alone; never a static-only score for a driven floor.
+        assert document["fitness"] >= result.fitness[genome[0]] - 1e-9
+        assert document["terms"]["dwa_fails"] == 2.0 * fails_in_document(problem, document)

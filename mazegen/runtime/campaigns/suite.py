@@ -172,7 +172,7 @@ def fill_archive(
         elif iteration:  # nothing solvable yet: start afresh
             codons = ops.random_codons(rng, batch, genome, settings.codon_max)
             genes = ops.random_genes(rng, batch, slots)
-        evaluation = problem.evaluate(codons, genes)
+        evaluation = problem.evaluate(codons, genes, searching=True)
         archive.offer(codons, genes, evaluation)
         if on_iteration is not None:
             seconds = time.perf_counter() - started

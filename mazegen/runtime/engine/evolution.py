@@ -86,7 +86,7 @@ def evaluate_cached(
     fitness = lookup.fitness
     for start in range(0, lookup.todo.size, EVALUATION_CHUNK):
         rows = lookup.todo[start : start + EVALUATION_CHUNK]
-        fitness[rows] = problem.evaluate(codons[rows], genes[rows], workspace).fitness
+        fitness[rows] = problem.evaluate(codons[rows], genes[rows], workspace, searching=True).fitness
     fitness = fitness[lookup.first]
     cache.remember(lookup, fitness)
     return fitness, int(lookup.todo.size), lookup.distinct

@@ -45,6 +45,9 @@ class Population:
         arena: The floor the scenarios are placed on.
         surveyed: The fitness reads difficulty metrics: search paths once, with them.
         robot: The robot the spec drives through the floors (None: it drives none).
+        searching: Scored by a search (an evolution, a suite), whose drive terms drive only the
+            robot's ``driven`` fraction of it; otherwise (scenario documents, ``score``) every
+            individual kept is driven, so that a written scenario carries its whole fitness.
         measured: What the layers above find from the population (its navigation, say), kept
             with it so that each is found once (see :mod:`mazegen.runtime.navigation.measures`).
     """
@@ -57,6 +60,7 @@ class Population:
     arena: Arena
     surveyed: bool = False
     robot: Robot | None = None
+    searching: bool = False
     measured: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @cached_property
@@ -212,6 +216,8 @@ def decode(
     table: ElementTable,
     spec: Spec,
     out: np.ndarray | None = None,
+    *,
+    searching: bool = False,
 ) -> Population:
     """Turn mapped structure codons plus placement genes into a :class:`Population`.
 
@@ -229,4 +235,5 @@ def decode(
         spec.arena,
         spec.reads_difficulty,
         spec.robot,
+        searching,
     )

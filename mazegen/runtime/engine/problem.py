@@ -168,9 +168,15 @@ class Problem:
         return self.spec.scenario.max_elements
 
     def decode(
-        self, codons: np.ndarray, genes: np.ndarray, workspace: Workspace | None = None
+        self,
+        codons: np.ndarray,
+        genes: np.ndarray,
+        workspace: Workspace | None = None,
+        *,
+        searching: bool = False,
     ) -> tuple[PopulationMap, Population]:
-        """Map structure codons and decode placements (into ``workspace`` when given)."""
+        """Map structure codons and decode placements (into ``workspace`` when given); ``searching``:
+        for a search (see :attr:`Population.searching`)."""
         evolution = self.spec.evolution
         numbers = self.spec.scenario.placement is not None  # only grammar placement reads them
         out, params = (
@@ -185,7 +191,7 @@ class Problem:
             numbers=numbers,
             out=out,
         )
-        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params)
+        return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params, searching=searching)
 
     def score(self, population: Population) -> tuple[np.ndarray, dict[str, np.ndarray]]:
         """Fitness and per-term values of a decoded population.
@@ -215,10 +221,16 @@ class Problem:
         return {key: np.asarray(verdict, dtype=bool) for key, verdict in verdicts.items()}
 
     def evaluate(
-        self, codons: np.ndarray, genes: np.ndarray, workspace: Workspace | None = None
+        self,
+        codons: np.ndarray,
+        genes: np.ndarray,
+        workspace: Workspace | None = None,
+        *,
+        searching: bool = False,
     ) -> Evaluation:
-        """Map, decode and score a population of genomes (into ``workspace`` when given)."""
-        mapped, population = self.decode(codons, genes, workspace)
+        """Map, decode and score a population of genomes (into ``workspace`` when given); ``searching``:
+        for a search, which drives only the spec's best fraction (:attr:`Population.searching`)."""
+        mapped, population = self.decode(codons, genes, workspace, searching=searching)
         fitness, terms = self.score(population)
         return Evaluation(fitness, terms, population, mapped)
 

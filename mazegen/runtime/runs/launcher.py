@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from mazegen.errors import MazeError, option
 from mazegen.fileio import make_folder
+from mazegen.runtime import run_kernels
 from mazegen.runtime.catalog.catalog import Catalog, default_catalog
 from mazegen.runtime.runs.checkpoint import CheckpointPolicy, CheckpointShape, CheckpointStore
 from mazegen.runtime.engine.evolution import RunResult
@@ -264,7 +265,8 @@ def launch(
     reporter = reporter or QuietReporter()
     policy = policy or CheckpointPolicy()
     if not executor.name.startswith("dask"):  # a cluster's workers have caches of their own
-        note_first_compile(reporter)
+        kernels = {kernel for job in jobs for kernel in run_kernels(job.experiment.problem.spec)}
+        note_first_compile(reporter, kernels=tuple(sorted(kernels)))
     launched: list[_Launched] = []
     try:
         for index, job in enumerate(jobs):

@@ -4,7 +4,8 @@ numba compiles a kernel the first time it is called, one after another on one co
 about a minute for a run on this project's machine, most of it before the first
 generation. When no kernel is cached yet, :func:`compile_kernels` splits that work in
 two before the runs start: a helper process compiles the path kernels (solvability, then
-the path search and difficulty metrics that every scenario file is measured with), while
+the path search and difficulty metrics that every scenario file is measured with, and the
+simulator's episode loops when the spec drives a robot), while
 this process compiles the rest (mapping, placement, geometry, hashing, breeding) and
 then evolves a tiny population, which compiles what the spec's fitness calls besides.
 Both write to the kernel cache, from which the runs load them, here or in their workers.
@@ -35,7 +36,7 @@ from mazegen.runtime.geometry.elements import ElementTable, world_vertices
 from mazegen.runtime.engine.operators import random_codons, random_genes
 from mazegen.runtime.engine.population import PLACEMENT_GENES, Population
 from mazegen.runtime.engine.problem import Problem, Workspace
-from mazegen.spec import Spec
+from mazegen.spec import Spec, robot_for
 
 TINY = 8
 """Individuals of the population that compiles the kernels."""
@@ -118,7 +119,8 @@ def _compile_path_kernels_or_not(spec: Spec) -> None:
 
 
 def compile_path_kernels(spec: Spec) -> None:
-    """Compile solvability, then the path search and difficulty metrics, on two empty floors of ``spec``."""
+    """Compile solvability, then the path search and difficulty metrics, then the simulator when the spec
+    drives a robot, on two empty floors of ``spec``."""
     types = spec.scenario_elements
     slots = spec.scenario.max_elements
     params = np.zeros((2, slots, PLACEMENT_GENES))
@@ -133,6 +135,19 @@ def compile_path_kernels(spec: Spec) -> None:
     if not spec.reads_difficulty:  # else the survey answers solvability too
         reach(floors, grid_of(spec.arena))  # first: the evolution in the other process needs it soonest
     survey(floors)
+    drive_once(spec, floors)
+
+
+def drive_once(spec: Spec, floors: Population) -> None:
+    """Drive each controller the spec's drive terms name over ``floors``: the simulator's kernels,
+    which its every generation calls. A spec without drive terms loads none of the simulator."""
+    if not spec.drive_controllers:
+        return
+    from mazegen.runtime import simulation
+
+    robot = spec.robot or robot_for(spec.arena)
+    for name in spec.drive_controllers:
+        simulation.drive(floors, robot=robot, controller=robot.controller(name))
 
 
 def compile_evolution_kernels(problem: Problem) -> None:
