@@ -51,6 +51,7 @@ from mazegen.runtime.navigation.calibration import (
     held_out_r_squared,
     measured_target,
     r_squared,
+    read_calibration,
     score_features,
     score_fit,
     spearman,
@@ -158,12 +159,6 @@ def collect(floors: int, starts: int, seed: int) -> list[dict[str, float | str]]
     return data
 
 
-def read_data(path: Path) -> list[dict[str, float | str]]:
-    """The rows :func:`collect` made, as ``--save`` wrote them."""
-    with path.open(newline="") as stream:
-        return [{k: v if k == "spec" else float(v) for k, v in row.items()} for row in csv.DictReader(stream)]
-
-
 def report(data: list[dict[str, float | str]], seed: int) -> None:
     """Print ρ and held-out R² per controller, and version 2's fit."""
     table = np.array([[row[m] for m in METRICS] for row in data], np.float64)
@@ -217,7 +212,7 @@ def main() -> None:
     parser.add_argument("--saved", action="store_true", help="report from the saved data, no driving")
     args = parser.parse_args()
     if args.saved:
-        data = read_data(DATA)
+        data = read_calibration(DATA)
     else:
         started = time.perf_counter()
         data = collect(args.floors, args.starts, args.seed)

@@ -9,8 +9,10 @@ them from the saved data. Plain NumPy: a handful of features, a few hundred floo
 
 from __future__ import annotations
 
+import csv
 import itertools
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -129,3 +131,10 @@ def score_fit(data: list[dict[str, float | str]]) -> Fit:
     """Version 2 of the difficulty score fitted to the calibration data: the non-negative linear
     model of the hardness terms that best predicts :data:`TARGET_CONTROLLERS`' measured difficulty."""
     return fit_nonnegative(score_features(data), measured_target(data, TARGET_CONTROLLERS))
+
+
+def read_calibration(path: Path) -> list[dict[str, float | str]]:
+    """The calibration data ``benchmarks/calibration.py --save`` wrote: one row per floor, its
+    ``spec`` named, every other column a number."""
+    with path.open(newline="") as stream:
+        return [{k: v if k == "spec" else float(v) for k, v in row.items()} for row in csv.DictReader(stream)]

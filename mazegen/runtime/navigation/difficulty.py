@@ -107,10 +107,10 @@ DIFFICULTY_VERSION = 2
 HARDNESS = ("clearance", "visibility", "dispersion", "dimension", "tortuosity", "path_ratio", "narrowest")
 """The columns of :func:`hardness`: each metric turned into a hardness in [0, 1]."""
 
-INTERCEPT = 0.0343
+INTERCEPT = 0.0489
 """Version 2's intercept: measured difficulty of a floor every hardness calls open."""
 
-WEIGHTS = np.array([0.0, 0.0, 0.5424, 0.0, 0.7238, 0.0, 0.1939])
+WEIGHTS = np.array([0.0, 0.0, 0.5069, 0.0, 0.6713, 0.0, 0.1781])
 """Version 2's weight of each :data:`HARDNESS` column, fitted by ``benchmarks/calibration.py`` to
 the measured traversal difficulty of the bundled controllers (docs/difficulty.md)."""
 

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import re
 from pathlib import Path
 
@@ -15,6 +14,7 @@ from mazegen.runtime.navigation.calibration import (
     folds,
     held_out_r_squared,
     ranks,
+    read_calibration,
     score_fit,
     spearman,
 )
@@ -31,11 +31,6 @@ from tests.runtime.floors import ARENA, population
 
 ROOT = Path(__file__).resolve().parents[3]
 DATA = Path(__file__).with_name("calibration_data.csv")
-
-
-def calibration_data() -> list[dict[str, float | str]]:
-    with DATA.open(newline="") as stream:
-        return [{k: v if k == "spec" else float(v) for k, v in row.items()} for row in csv.DictReader(stream)]
 
 
 def random_table(rng: np.random.Generator, n: int, scale: float) -> np.ndarray:
@@ -84,7 +79,7 @@ def test_version_2_is_monotone_and_bounded():
 
 def test_the_weights_are_refitted_from_the_saved_calibration_data():
     """benchmarks/calibration.py --save wrote the data; fitting it again gives the score's weights."""
-    fit = score_fit(calibration_data())
+    fit = score_fit(read_calibration(DATA))
     assert fit.intercept == pytest.approx(INTERCEPT, abs=5e-5)
     assert fit.weights == pytest.approx(WEIGHTS, abs=5e-5)
 
