@@ -161,7 +161,7 @@ PATH_METRICS = (
 )
 """Metrics of the robot's path a ``metric`` term can target (see docs/language.md §6)."""
 
-DIFFICULTY_LEVELS = {"easy": (0.0, 10.0), "medium": (10.0, 25.0), "hard": (25.0, 100.0)}
+DIFFICULTY_LEVELS = {"easy": (0.0, 25.0), "medium": (25.0, 50.0), "hard": (50.0, 100.0)}
 """Difficulty score ranges of the named levels."""
 
 

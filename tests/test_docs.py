@@ -246,14 +246,18 @@ def test_the_files_quoted_are_those_the_sample_run_writes(sample_run):
 
 
 def test_the_difficulty_of_the_example_floors_is_the_one_quoted():
-    from mazegen.runtime.navigation.difficulty import survey
+    from mazegen.runtime.navigation.difficulty import difficulty_score, survey
     from tests.runtime.floors import ARENA, ZIGZAG, population
 
     text = " ".join((ROOT / "docs" / "difficulty.md").read_text(encoding="utf-8").split())
     quoted = re.search(r"the open floor scores (\d+) and a zig-zag between two walls, [^,]*, (\d+)", text)
     assert quoted is not None, "difficulty.md no longer quotes the example floors' scores"
-    scores = survey(population(ARENA, [[], ZIGZAG])).difficulty
-    assert [int(quoted[1]), int(quoted[2])] == [round(float(score)) for score in scores]
+    found = survey(population(ARENA, [[], ZIGZAG]))
+    version_1 = difficulty_score(found.table, ARENA.robot_radius, version=1)
+    assert [int(quoted[1]), int(quoted[2])] == [round(float(score)) for score in version_1]
+    quoted = re.search(r"the open floor above scores (\d+), the zig-zag (\d+)", text)
+    assert quoted is not None, "difficulty.md no longer quotes the example floors' version 2 scores"
+    assert [int(quoted[1]), int(quoted[2])] == [round(float(score)) for score in found.difficulty]
 
 
 def abridges(shown: object, actual: object) -> bool:

@@ -168,6 +168,7 @@ DOCUMENT = Fields(
                     MEASURE,
                 ),
                 "narrowest": MEASURE,
+                "difficulty_version": Number(low=1, high=2, integer=True),
             }
         ),
         "path": Items(POINT, least=2, most=MAX_PATH, null=True),

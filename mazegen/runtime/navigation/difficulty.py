@@ -21,7 +21,8 @@ the straight start-goal distance), the **path-length ratio** (the robot's path
 over the path of a point robot on the same grid: the detour the robot's width
 forces) and the **narrowest passage** (the smallest characteristic dimension on
 the path: 0 when the robot just fits). :func:`difficulty_score` combines the
-five BARN metrics into one score from 0 (open floor) to 100.
+metrics into one score from 0 (open floor) to 100, in two versions: BARN's five metrics averaged
+(version 1) and a fit to measured traversal (version 2, the default).
 """
 
 from __future__ import annotations
@@ -91,6 +92,7 @@ class Survey:
             "solvable": bool(nav.solvable[index]),
             "coverage": float(nav.coverage[index]),
             **{key: value if math.isfinite(value) else None for key, value in values.items()},
+            "difficulty_version": DIFFICULTY_VERSION,
         }
 
     @cached_property
@@ -99,23 +101,53 @@ class Survey:
         return difficulty_score(self.table, self.robot_radius or self.navigation.cell)
 
 
-def difficulty_score(table: np.ndarray, scale: float) -> np.ndarray:
-    """One number from 0 (open) to 100 (hard) out of BARN's five metrics.
+DIFFICULTY_VERSION = 2
+"""The version of :func:`difficulty_score` that scenario documents and surveys give by default."""
 
-    Each metric becomes a hardness in [0, 1] against the robot's size ``scale``
-    (its radius): ``exp(-clearance / 2s)``, ``exp(-visibility / 8s)``,
-    ``1 - exp(-dispersion / 2)``, ``exp(-dimension / 4s)`` and
-    ``1 - exp(-(tortuosity - 1) / 0.5)``; the score is 100 times their mean.
-    """
+HARDNESS = ("clearance", "visibility", "dispersion", "dimension", "tortuosity", "path_ratio", "narrowest")
+"""The columns of :func:`hardness`: each metric turned into a hardness in [0, 1]."""
+
+INTERCEPT = 0.0489
+"""Version 2's intercept: measured difficulty of a floor every hardness calls open."""
+
+WEIGHTS = np.array([0.0, 0.0, 0.5069, 0.0, 0.6713, 0.0, 0.1781])
+"""Version 2's weight of each :data:`HARDNESS` column, fitted by ``benchmarks/calibration.py`` to
+the measured traversal difficulty of the bundled controllers (docs/difficulty.md)."""
+
+
+def hardness(table: np.ndarray, scale: float) -> np.ndarray:
+    """``float64[N, len(HARDNESS)]``: each metric of ``table`` (:data:`METRICS` columns) as a hardness
+    in [0, 1] against the robot's size ``scale`` (its radius); NaN where the metric is."""
     column = {name: table[:, k] for k, name in enumerate(METRICS)}
-    hardness = (
-        np.exp(-column["clearance"] / (2.0 * scale)),
-        np.exp(-column["visibility"] / (8.0 * scale)),
-        1.0 - np.exp(-column["dispersion"] / 2.0),
-        np.exp(-column["dimension"] / (4.0 * scale)),
-        1.0 - np.exp(-(column["tortuosity"] - 1.0) / 0.5),
+    return np.column_stack(
+        (
+            np.exp(-column["clearance"] / (2.0 * scale)),
+            np.exp(-column["visibility"] / (8.0 * scale)),
+            1.0 - np.exp(-column["dispersion"] / 2.0),
+            np.exp(-column["dimension"] / (4.0 * scale)),
+            1.0 - np.exp(-(column["tortuosity"] - 1.0) / 0.5),
+            1.0 - np.exp(-(column["path_ratio"] - 1.0) / 0.1),
+            np.exp(-column["narrowest"] / (2.0 * scale)),
+        )
     )
-    return 100.0 * np.mean(hardness, axis=0)
+
+
+def difficulty_score(table: np.ndarray, scale: float, *, version: int = DIFFICULTY_VERSION) -> np.ndarray:
+    """One number from 0 (open) to 100 (hard) out of the metrics of ``table``.
+
+    Version 1 is BARN's five metrics as hardnesses (:func:`hardness`'s first five columns:
+    ``exp(-clearance / 2s)``, ``exp(-visibility / 8s)``, ``1 - exp(-dispersion / 2)``,
+    ``exp(-dimension / 4s)``, ``1 - exp(-(tortuosity - 1) / 0.5)``), 100 times their mean.
+    Version 2 is the measured traversal difficulty those hardnesses and the path ratio's and
+    narrowest passage's predict: 100 × (:data:`INTERCEPT` + hardness · :data:`WEIGHTS`), clipped
+    to [0, 100], where 0 is the optimal time and 100 the timeout (docs/difficulty.md).
+    """
+    terms = hardness(table, scale)
+    if version == 1:
+        return 100.0 * np.mean(terms[:, :5].T, axis=0)  # summed in version 1's order, bit for bit
+    if version == 2:
+        return 100.0 * np.clip(INTERCEPT + terms @ WEIGHTS, 0.0, 1.0)
+    raise ValueError(f"difficulty score version {version} is not 1 or 2")
 
 
 def dispersion_radius(robot_radius: float, cell: float) -> float:

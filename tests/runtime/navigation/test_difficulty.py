@@ -17,13 +17,14 @@ from mazegen.runtime.navigation.difficulty import (
     RAYS16,
     cell_dispersion,
     closest_blocked,
+    difficulty_score,
     fill_free_steps,
     path_cells,
     step_arrays,
     survey,
 )
 from mazegen.runtime.navigation.paths import free_cells, navigate, path_of
-from mazegen.spec import Arena
+from mazegen.spec import DIFFICULTY_LEVELS, Arena
 from tests.runtime.floors import ARENA, NAMES, ZIGZAG, pack, population, random_floors
 
 
@@ -149,7 +150,8 @@ def test_open_floor_is_easy_and_straight():
     row = dict(zip(METRICS, found.table[0]))
     assert row["tortuosity"] == pytest.approx(1.0) and row["path_ratio"] == pytest.approx(1.0)
     assert found.navigation.coverage[0] == 0.0
-    assert found.difficulty[0] < 10
+    assert found.difficulty[0] < DIFFICULTY_LEVELS["easy"][1]
+    assert difficulty_score(found.table, ARENA.robot_radius, version=1)[0] < 10
 
 
 def test_walls_make_a_floor_harder_on_every_metric():
