@@ -99,9 +99,9 @@ BAD_COMMAND_LINES = [
     ([*EXPORT, "gazebo", "--cell", "5"], "--cell does not apply to gazebo exports (only to ros, movingai)"),
     (
         [*EXPORT, "movingai", "--scale", "1"],
-        "--scale does not apply to movingai exports (only to ros, gazebo)",
+        "--scale does not apply to movingai exports (only to ros, gazebo, irsim)",
     ),
-    ([*EXPORT, "png", "--scale", "1"], "--scale does not apply to png exports (only to ros, gazebo)"),
+    ([*EXPORT, "png", "--scale", "1"], "--scale does not apply to png exports (only to ros, gazebo, irsim)"),
     ([*EXPORT, "gazebo", "--scale", "1e9"], f"--scale must be {SCALES}, got 1e+09"),
     ([*EXPORT, "gazebo", "--scale", "inf"], f"--scale must be {SCALES}, got inf"),
     ([*EXPORT, "ros", "--cell", "nan"], "--cell must be a positive number of arena units, got nan"),
