@@ -32,6 +32,9 @@ FIELDS = frozenset({"dwa"})
 MARGINS = {"purepursuit": "path_margin", "dwa": "path_margin"}
 """Bundled controllers that follow the path of a wider robot where there is one: the parameter
 saying how much wider (:func:`mazegen.runtime.simulation._paths.floor_paths`)."""
+WINDOWS = {"vfh": "window"}
+"""Bundled lidar controllers that ignore readings beyond a parameter's distance: their lidar is
+cast no farther (the same commands, a cheaper scan)."""
 
 
 @dataclass(frozen=True)
@@ -73,7 +76,7 @@ def choose(controller: str | ControllerSpec | Callable[[Any], Any], robot: Robot
         params = bundled_params(name, overrides, arena)
         margin = None if name not in PATHS else 0.0
         if name in MARGINS:
-            margin = float(params[[p.name for p in BUNDLED[name].parameters].index(MARGINS[name])])
+            margin = named(name, params, MARGINS[name])
         return Choice(name, CODES[name], params, BUNDLED[name].lidar, margin)
     if overrides:
         raise MazeError(f"controller {name} is a user's policy: it takes no parameters from the spec")
@@ -128,3 +131,15 @@ def load_policy(name: str) -> Callable[[Any], Any]:
     if not callable(found):
         raise MazeError(f"controller {name} is not callable: a policy is called with the observations")
     return found
+
+
+def lidar_reach(choice: Choice, robot: Robot) -> float:
+    """How far ``choice``'s lidar is cast: the robot's range, or less where the controller reads less."""
+    if choice.policy is not None or choice.name not in WINDOWS:
+        return robot.lidar_range
+    return min(robot.lidar_range, named(choice.name, choice.params, WINDOWS[choice.name]))
+
+
+def named(name: str, params: np.ndarray, parameter: str) -> float:
+    """The value of bundled controller ``name``'s ``parameter`` in its ``params`` array."""
+    return float(params[[p.name for p in BUNDLED[name].parameters].index(parameter)])

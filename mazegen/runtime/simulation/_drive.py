@@ -17,7 +17,7 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.runtime.engine.population import Population
-from mazegen.runtime.simulation._choice import FIELDS, Choice, choose
+from mazegen.runtime.simulation._choice import FIELDS, Choice, choose, lidar_reach
 from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
 from mazegen.runtime.simulation._fields import floor_fields
 from mazegen.runtime.simulation._lidar import beam_angles
@@ -89,7 +89,14 @@ def drive(
     angles = beam_angles(robot.beams, robot.fov) if choice.lidar else np.zeros(0)
     stuck_steps = max(1, math.ceil(robot.stuck / robot.step - 1e-9))
     run = Setup(
-        limits, goal, world, paths, angles, robot.lidar_range, max_steps.astype(np.int32), stuck_steps
+        limits,
+        goal,
+        world,
+        paths,
+        angles,
+        lidar_reach(choice, robot),
+        max_steps.astype(np.int32),
+        stuck_steps,
     )
     trajectory = np.full((m if record else 0, int(max_steps.max(initial=0)) + 1, 3), np.nan)
     if m:

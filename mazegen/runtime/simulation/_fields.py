@@ -9,8 +9,8 @@ Both live on the configuration-space grid of :func:`mazegen.runtime.geometry.csp
   every cell a part touches, so the true distance from a cell centre to the nearest obstacle
   differs from ``clear`` by at most half a cell's diagonal (:data:`CLEAR_ERROR` cells).
 - ``nav``: the free-space distance to the goal from each cell centre over the free cells of the
-  configuration space (robot radius inflated), by Dijkstra's algorithm on the 8-connected
-  cells (a diagonal step needs both cells beside it free, as the path search does); ``inf``
+  configuration space (robot radius inflated), by Dijkstra's algorithm (a bucket queue) on the
+  8-connected cells (a diagonal step needs both cells beside it free, as the path search does); ``inf``
   where blocked or cut off from the goal. It is at most ``1 - π/8 ≈ 8 %`` longer than the
   shortest free-space path between the same cells.
 
@@ -91,13 +91,14 @@ def field_scratch(rows, cols):  # pragma: no cover - compiled
     """Scratch of :func:`clearance` and :func:`navigation` for one thread."""
     longest = max(rows, cols)
     return (
-        np.empty((rows, cols)),  # squared distances, in cells², after the column pass
-        np.empty(longest),  # one line of squared distances
-        np.empty(longest),  # and its transform
+        np.empty((rows, cols)),  # squared distances in cells² after the column pass; Dijkstra's keys
+        np.empty(longest),  # one row's transform
         np.empty(longest, np.int64),  # the lower envelope's parabolas
         np.empty(longest + 1),  # and where each starts
-        np.empty(8 * rows * cols + 1),  # heap keys
-        np.empty(8 * rows * cols + 1, np.int64),  # heap cells
+        np.empty(8 * rows * cols + 1),  # queue entries: keys,
+        np.empty(8 * rows * cols + 1, np.int64),  # cells,
+        np.empty(8 * rows * cols + 1, np.int64),  # and the next entry of the same bucket
+        np.empty(4, np.int64),  # the first entry of each bucket of the ring
     )
 
 
@@ -106,14 +107,19 @@ def clearance(occupied, cell, extent, out, scratch):  # pragma: no cover - compi
     """``out[r, c]``: distance from cell ``(r, c)``'s centre to the nearest occupied cell's centre
     or to the arena's edge, whichever is nearer (arena units)."""
     rows, cols = out.shape
-    squared, line, done, hull, bounds = scratch[0], scratch[1], scratch[2], scratch[3], scratch[4]
-    far = float(rows * rows + cols * cols + 1)
-    for c in range(cols):
-        for r in range(rows):
-            line[r] = 0.0 if is_set(occupied[r], c) else far
-        _lower_envelope(line, rows, hull, bounds, done)
-        for r in range(rows):
-            squared[r, c] = done[r]
+    squared, done, hull, bounds = scratch[0], scratch[1], scratch[2], scratch[3]
+    # Along columns: rows to the nearest occupied cell, a sweep down then up, squared.
+    far = float(rows + cols + 1)
+    for r in range(rows):
+        for c in range(cols):
+            squared[r, c] = 0.0 if is_set(occupied[r], c) else (squared[r - 1, c] + 1.0 if r else far)
+    for r in range(rows - 2, -1, -1):
+        for c in range(cols):
+            squared[r, c] = min(squared[r, c], squared[r + 1, c] + 1.0)
+    for r in range(rows):
+        for c in range(cols):
+            squared[r, c] *= squared[r, c]
+    # Along rows: the lower envelope of the columns' parabolas.
     width, height = extent[0], extent[1]
     for r in range(rows):
         _lower_envelope(squared[r], cols, hull, bounds, done)
@@ -159,22 +165,37 @@ def _lower_envelope(f, n, hull, bounds, out):  # pragma: no cover - compiled
 @njit(cache=True)
 def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - compiled
     """``out[r, c]``: distance to the goal from cell ``(r, c)``'s centre through free cells,
-    8-connected (Dijkstra with a binary heap), ``inf`` where the goal cannot be reached."""
+    8-connected, ``inf`` where the goal cannot be reached.
+
+    Dijkstra's algorithm with a bucket queue of buckets one cell wide, the shortest step (Dinitz):
+    no step from a key in the lowest bucket can land back in it, so every entry of that bucket is
+    final, whatever their order. A step adds at most √2 cells, so three buckets in a ring hold
+    every pending key.
+    """
     rows, cols = out.shape
-    best, keys, cells = scratch[0], scratch[5], scratch[6]
+    best, keys, cells, links, heads = scratch[0], scratch[4], scratch[5], scratch[6], scratch[7]
     best[:] = np.inf
     out[:] = _FAR
+    heads[:] = -1
     gr, gc = ends[2], ends[3]
     if not (0 <= gr < rows and 0 <= gc < cols and is_set(free[gr], gc)):
         return
     gx, gy = points[2], points[3]
     seed = math.hypot((gc + 0.5) * cell - gx, (gr + 0.5) * cell - gy)
     best[gr, gc] = seed
-    size = _push(keys, cells, 0, seed, gr * cols + gc)
+    per_cell = 1.0 / cell
+    ring = heads.shape[0]
+    bucket = int(seed * per_cell)
+    used = _file(keys, cells, links, heads, 0, seed, gr * cols + gc, bucket % ring)
+    pending = 1
     diagonal = math.sqrt(2.0) * cell
-    while size:
-        key, here = keys[0], cells[0]
-        size = _pop(keys, cells, size)
+    while pending:
+        while heads[bucket % ring] < 0:
+            bucket += 1
+        entry = heads[bucket % ring]
+        heads[bucket % ring] = links[entry]
+        pending -= 1
+        key, here = keys[entry], cells[entry]
         r, c = here // cols, here - (here // cols) * cols
         if key > best[r, c] or out[r, c] < _FAR:  # a stale entry, or settled already
             continue
@@ -195,38 +216,15 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
                     reached = key + cell
                 if reached < best[nr, nc]:
                     best[nr, nc] = reached
-                    size = _push(keys, cells, size, reached, nr * cols + nc)
+                    # (never below the bucket being emptied, whatever the rounding)
+                    slot = max(int(reached * per_cell), bucket + 1) % ring
+                    used = _file(keys, cells, links, heads, used, reached, nr * cols + nc, slot)
+                    pending += 1
 
 
 @njit(cache=True, inline="always")
-def _push(keys, cells, size, key, value):  # pragma: no cover - compiled
-    """Add ``(key, value)`` to the binary min-heap of ``size`` entries; returns the new size."""
-    i = size
-    while i > 0:
-        parent = (i - 1) >> 1
-        if keys[parent] <= key:
-            break
-        keys[i], cells[i] = keys[parent], cells[parent]
-        i = parent
-    keys[i], cells[i] = key, value
-    return size + 1
-
-
-@njit(cache=True, inline="always")
-def _pop(keys, cells, size):  # pragma: no cover - compiled
-    """Remove the heap's smallest entry; returns the new size."""
-    size -= 1
-    key, value = keys[size], cells[size]
-    i = 0
-    while True:
-        child = 2 * i + 1
-        if child >= size:
-            break
-        if child + 1 < size and keys[child + 1] < keys[child]:
-            child += 1
-        if keys[child] >= key:
-            break
-        keys[i], cells[i] = keys[child], cells[child]
-        i = child
-    keys[i], cells[i] = key, value
-    return size
+def _file(keys, cells, links, heads, used, key, value, slot):  # pragma: no cover - compiled
+    """Put ``(key, value)`` first in bucket ``slot``, in entry ``used``; returns the next free entry."""
+    keys[used], cells[used], links[used] = key, value, heads[slot]
+    heads[slot] = used
+    return used + 1
