@@ -29,7 +29,7 @@ def wrap(angle):  # pragma: no cover - compiled
     return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def straight_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
 ):  # pragma: no cover
@@ -84,7 +84,7 @@ def carrot(path, x, y, reach):  # pragma: no cover - compiled
     return path[n - 1, 0], path[n - 1, 1]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def purepursuit_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
 ):  # pragma: no cover
@@ -100,12 +100,11 @@ def purepursuit_command(
     c, s = math.cos(theta), math.sin(theta)
     lx = c * (cx - x) + s * (cy - y)
     ly = c * (cy - y) - s * (cx - x)
-    angle = math.atan2(ly, lx)
-    if abs(angle) > params[5]:  # rotate to heading
-        out[0] = 0.0
-        out[1] = math.copysign(limits[MAX_TURN], angle)
-        return
     d2 = lx * lx + ly * ly
+    if lx < math.cos(params[5]) * math.sqrt(d2):  # the carrot's bearing exceeds it: rotate to heading
+        out[0] = 0.0
+        out[1] = math.copysign(limits[MAX_TURN], ly)
+        return
     curvature = 2.0 * ly / d2 if d2 > 0.0 else 0.0
     speed = limits[MAX_SPEED]
     if curvature != 0.0 and 1.0 / abs(curvature) < params[4]:  # regulate: slow down in tight turns

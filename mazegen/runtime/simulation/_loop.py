@@ -79,6 +79,7 @@ def run_all(
         out = np.zeros(2)
         for m in range(block * m_all // blocks, (block + 1) * m_all // blocks):
             f = m if nav.shape[0] > 1 else 0
+            floor_nav, floor_clear = nav[f], clear[f]
             path = paths[m, : path_count[m]]
             _record(trajectory, m, 0, state)
             while outcome[m] == ACTIVE:
@@ -86,6 +87,8 @@ def run_all(
                     pose[k] = state[m, X + k]
                 if angles.shape[0]:
                     scan(pose[0], pose[1], pose[2], angles, reach, m, world, near, ranges)
-                command(code, params, limits, pose, goal, nav[f], clear[f], grid, path, ranges, angles, out)
+                command(
+                    code, params, limits, pose, goal, floor_nav, floor_clear, grid, path, ranges, angles, out
+                )
                 advance(m, out[0], out[1], world, episode, robots)
                 _record(trajectory, m, steps[m], state)
