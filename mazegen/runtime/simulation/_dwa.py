@@ -77,6 +77,7 @@ def dwa_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
     zero = w_lo <= 0.0 <= w_hi and nw > 1
     best = (math.inf, math.inf, nv, nw)
     cos_now, sin_now = math.cos(theta), math.sin(theta)
+    still = math.nan  # the cost of standing still, once scored
     out[0], out[1] = 0.0, 0.0
     # The sample nearest the current velocity first, then all (it again, harmlessly).
     i0 = _nearest(v_now, v_lo, v_hi, nv, 0)
@@ -94,26 +95,31 @@ def dwa_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
         for i in range(nv) if n >= 0 else range(i0, i0 + 1):
             v = _sample(v_lo, v_hi, nv, i, False)
             ex, ey = x + v * ax, y + v * ay
-            cost = _score(
-                params,
-                x,
-                y,
-                theta,
-                ex,
-                ey,
-                v,
-                w,
-                horizon,
-                limit,
-                radius,
-                nav,
-                clear,
-                frame,
-                path,
-                first,
-                last,
-                best[0],
-            )
+            if v == 0.0 and not math.isnan(still):
+                cost = still  # turning on the spot: every turn rate costs the same (its tie aside)
+            else:
+                cost = _score(
+                    params,
+                    x,
+                    y,
+                    theta,
+                    ex,
+                    ey,
+                    v,
+                    w,
+                    horizon,
+                    limit,
+                    radius,
+                    nav,
+                    clear,
+                    frame,
+                    path,
+                    first,
+                    last,
+                    best[0],
+                )
+                if v == 0.0:
+                    still = cost  # (over budget stays over: the budget only falls)
             if cost == math.inf:
                 continue
             tie = _nav_at(nav, frame, ex + params[FORWARD] * cos_end, ey + params[FORWARD] * sin_end)

@@ -6,7 +6,6 @@ from __future__ import annotations
 import itertools
 import math
 
-import numba
 import numpy as np
 import pytest
 
@@ -17,7 +16,7 @@ from mazegen.runtime.simulation._dwa import LETHAL, dwa_command
 from mazegen.runtime.simulation._episodes import ARRIVED
 from mazegen.runtime.simulation._fields import floor_fields
 from tests.runtime.floors import ARENA, ZIGZAG, population, random_floors
-from tests.runtime.simulation.kernel_args import LIMITS, ROBOT, params_of
+from tests.runtime.simulation.kernel_args import LIMITS, ROBOT, on_one_thread_and_on_all, params_of
 
 PARAMS = params_of("dwa")
 GOAL = np.array(ARENA.goal, np.float64)
@@ -207,15 +206,7 @@ def test_dwa_arrives_in_the_open_and_fails_behind_a_wall():
 def test_dwa_drives_alike_on_one_thread_and_on_two():
     rng = np.random.default_rng(8)
     pop = population(ARENA, [*random_floors(rng, 12, ARENA), U_TRAP, ZIGZAG])
-    before = numba.get_num_threads()
-    try:
-        runs = []
-        for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
-            numba.set_num_threads(threads)
-            runs.append(drive(pop, robot=ROBOT, controller="dwa", record=True))
-    finally:
-        numba.set_num_threads(before)
-    one, two = runs
+    one, two = on_one_thread_and_on_all(pop, "dwa")
     assert (one.outcome == ARRIVED).sum() >= 3
     assert one.outcome.tobytes() == two.outcome.tobytes()
     assert one.trajectory.tobytes() == two.trajectory.tobytes()

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 import pytest
 
@@ -14,7 +13,7 @@ from mazegen.runtime.simulation._episodes import ARRIVED, NO_PATH
 from mazegen.runtime.simulation._lidar import beam_angles
 from mazegen.runtime.simulation._vfh import vfh_command
 from tests.runtime.floors import ARENA, population, random_floors
-from tests.runtime.simulation.kernel_args import LIMITS, ROBOT, params_of
+from tests.runtime.simulation.kernel_args import LIMITS, ROBOT, on_one_thread_and_on_all, params_of
 
 PARAMS = params_of("vfh")
 NONE2 = np.zeros((1, 1), np.float32)
@@ -124,15 +123,7 @@ def test_vfh_drives_the_open_floor_and_fails_behind_a_wall(floor, arrives):
 def test_vfh_drives_alike_on_one_thread_and_on_two():
     rng = np.random.default_rng(8)
     pop = population(ARENA, [[], *random_floors(rng, 12, ARENA)])
-    before = numba.get_num_threads()
-    try:
-        runs = []
-        for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
-            numba.set_num_threads(threads)
-            runs.append(drive(pop, robot=ROBOT, controller="vfh", record=True))
-    finally:
-        numba.set_num_threads(before)
-    one, two = runs
+    one, two = on_one_thread_and_on_all(pop, "vfh")
     assert (one.outcome == ARRIVED).sum() >= 1
     assert (one.outcome != NO_PATH).sum() >= 4
     assert one.outcome.tobytes() == two.outcome.tobytes()
