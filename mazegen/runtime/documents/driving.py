@@ -173,7 +173,7 @@ class Floors:
         """The files of the floors that are not driven: no path from start to goal."""
         return [file for file, solvable in zip(self.files, self.solvable) if not solvable]
 
-    def drive(self, controllers: Sequence[str], *, seed: int = 0) -> list[list[Drive]]:
+    def drive(self, controllers: Sequence[str]) -> list[list[Drive]]:
         """Drive every floor with a path with each controller (with the spec's settings of it), one
         batch call per controller; ``[floor][controller]`` in the order of files and controllers."""
         from mazegen.runtime.simulation import drive
@@ -190,7 +190,6 @@ class Floors:
                 controller=robot.controller(name),
                 indices=indices,
                 record=True,
-                seed=seed,
             )
             scores = episodes.score()
             for row, index in enumerate(indices.tolist()):

@@ -37,7 +37,6 @@ def drive(
     indices: np.ndarray | None = None,
     starts: np.ndarray | None = None,
     record: bool = False,
-    seed: int = 0,
 ) -> Episodes:
     """Drive ``controller`` over the floors ``indices`` of ``population`` (default: every valid one).
 
@@ -50,13 +49,13 @@ def drive(
         starts: ``float64[M, 3]`` start pose ``(x, y, theta)`` per driven floor; default the arena's
             start, heading toward the goal.
         record: Keep every pose (:attr:`Episodes.trajectory`).
-        seed: Passed to nothing random yet: the simulation and the bundled controllers are
-            deterministic; kept so that seeded controllers and perturbed starts share one API.
+
+    Nothing is drawn at random: the same floors, robot, controller and starts give the same
+    episodes (perturbed starts are the caller's, drawn from its own seeded generator).
 
     Raises:
         MazeError: an unknown controller or parameter, or a user's policy that fails.
     """
-    del seed  # deterministic: nothing is drawn
     arena = population.arena
     choice = choose(controller, robot, arena)
     rows = np.flatnonzero(population.valid) if indices is None else np.asarray(indices, np.int64).reshape(-1)
