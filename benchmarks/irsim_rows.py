@@ -58,7 +58,8 @@ class ReplayPolicy:
         self.row[floors] = np.arange(len(floors))
         for k, floor in enumerate(floors.tolist()):
             given = commands.get(floor, [])
-            self.table[k, : len(given)] = given
+            if given:  # a start touching a part ends its episode before any command
+                self.table[k, : len(given)] = given
 
     def __call__(self, observations: Observations) -> np.ndarray:
         return self.table[self.row[observations.floor], observations.step]
