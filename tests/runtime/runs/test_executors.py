@@ -37,6 +37,26 @@ def test_dask_local_cluster_writes_what_a_serial_run_writes(tmp_path):
     assert not (dask / "checkpoints").exists()  # the workers' checkpoints, removed once finished
 
 
+def test_a_driving_spec_writes_the_same_files_on_every_executor(tmp_path):
+    """Drive terms run the simulator inside each worker: its episodes, and so the fitness and the
+    files, must not depend on where a run ran."""
+    distributed = pytest.importorskip("distributed")
+    spec = EXAMPLES / "adversarial.maze"
+    small = {"seed": 3, "runs": 2, "population": 40, "generations": 2}
+    mazegen.run(spec, **small, out_dir=tmp_path / "serial", executor="serial")
+    mazegen.run(spec, **small, out_dir=tmp_path / "local", executor="local", workers=2)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
+        mazegen.run(
+            spec, **small, out_dir=tmp_path / "dask", executor="dask", scheduler=cluster.scheduler_address
+        )
+    serial = file_digests(tmp_path / "serial")
+    assert any("best" in name for name in serial)  # runs wrote their driven scenarios
+    assert file_digests(tmp_path / "local") == serial
+    assert file_digests(tmp_path / "dask") == serial
+
+
 def test_unreachable_or_malformed_scheduler_is_a_one_line_error():
     pytest.importorskip("distributed")
     from mazegen.runtime.runs.dask_executor import DaskExecutor
