@@ -128,8 +128,11 @@ def measure(population: Population, rows: np.ndarray, starts: int, seed: int) ->
         episodes = drive(
             population, robot=robot, controller=name, indices=np.repeat(rows, starts), starts=poses
         )
-        ratio = np.where(episodes.outcome == ARRIVED, episodes.time / episodes.optimal_time, robot.timeout)
-        measured[name] = np.minimum(ratio, robot.timeout).reshape(rows.size, starts).mean(axis=1)
+        measured[name] = (
+            np.minimum(episodes.time_ratio(robot.timeout), robot.timeout)
+            .reshape(rows.size, starts)
+            .mean(axis=1)
+        )
         print(
             f"  {name}: {episodes.outcome.size} episodes in {time.perf_counter() - started:.1f} s, "
             f"arrived {np.mean(episodes.outcome == ARRIVED):.0%}"

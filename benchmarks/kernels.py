@@ -36,7 +36,7 @@ from mazegen.generator.build import build
 from mazegen.runtime import metrics
 from mazegen.runtime.engine import evolution
 from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
-from mazegen.runtime.engine.mapping import PopulationMap, map_population
+from mazegen.runtime.engine.mapping import PopulationMap
 from mazegen.runtime.engine.operators import random_codons, random_genes
 from mazegen.runtime.engine.population import Population, placement_params
 from mazegen.runtime.engine.problem import Problem, Workspace
@@ -136,17 +136,8 @@ def describe(sample: Sample) -> dict:
 
 
 def mapping(problem: Problem, codons: np.ndarray, out: PopulationMap | None = None) -> PopulationMap:
-    """``map_population`` with the spec's options, into ``out`` when given."""
-    settings = problem.spec.evolution
-    return map_population(
-        problem.compiled,
-        codons,
-        wraps=settings.wraps,
-        consume=settings.consume,
-        max_elements=problem.slots,
-        numbers=problem.spec.scenario.placement is not None,
-        out=out,
-    )
+    """The problem's mapping of ``codons``, into ``out`` when given."""
+    return problem.map(codons, numbers=problem.reads_numbers, out=out)
 
 
 def map_decode_overlap(problem: Problem, sample: Sample, workspace: Workspace) -> np.ndarray:
@@ -159,7 +150,14 @@ def ga_step(selection: str, problem: Problem, sample: Sample) -> Callable[[], No
     settings = dataclasses.replace(problem.spec.evolution, population=sample.rows, selection=selection)
     out = (np.empty_like(sample.codons), np.empty_like(sample.genes))
     return partial(
-        evolution.breed, np.random.default_rng(2), sample.codons, sample.genes, sample.fitness, settings, out
+        evolution.breed,
+        np.random.default_rng(2),
+        sample.codons,
+        sample.genes,
+        sample.fitness,
+        settings,
+        out,
+        problem.usage,  # the operators within the used codons read it
     )
 
 
@@ -313,7 +311,7 @@ def generation_seconds(problem: Problem, sample: Sample, repeats: int) -> float:
         fitness = evolution.evaluate_cached(
             problem, sample.codons, sample.genes, EvaluationCache(), Workspace()
         )[0]
-        evolution.breed(rng, sample.codons, sample.genes, fitness, settings, out)
+        evolution.breed(rng, sample.codons, sample.genes, fitness, settings, out, problem.usage)
 
     return median_seconds(generation, repeats=repeats, warmup=WARMUP)
 

@@ -409,6 +409,11 @@ class Spec:
         return tuple(self.element(name) for name in self.scenario.elements)
 
     @property
+    def robot_or_default(self) -> Robot:
+        """The robot the spec drives: its robot block's, or the arena's default (:func:`robot_for`)."""
+        return self.robot if self.robot is not None else robot_for(self.arena)
+
+    @property
     def reads_difficulty(self) -> bool:
         """Whether a fitness term reads the difficulty metrics (not just solvability)."""
         return any(term.kind in ("difficulty", "metric") for term in self.fitness)

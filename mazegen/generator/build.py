@@ -14,7 +14,7 @@ from jinja2 import Environment, PackageLoader, StrictUndefined
 from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
 from mazegen.generator.grammar import scenario_rules
-from mazegen.spec import REWARDS, FitnessTerm, Spec, robot_for
+from mazegen.spec import REWARDS, FitnessTerm, Spec
 from mazegen.version import __version__
 
 ARTIFACTS = ("grammar.bnf", "fitness.py", "experiment.py", "spec.json")
@@ -160,7 +160,7 @@ def render_artifacts(spec: Spec) -> dict[str, str]:
     _check_buildable(spec, grammar)
     penalised, rejecting = fitness_lines(spec)
     driving = [line for line in penalised if line.drives]
-    driven = 1.0 if not driving else (spec.robot or robot_for(spec.arena)).driven
+    driven = 1.0 if not driving else spec.robot_or_default.driven
     return {
         "grammar.bnf": grammar,
         "fitness.py": env.get_template("fitness.py.jinja").render(

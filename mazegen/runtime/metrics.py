@@ -171,9 +171,7 @@ def drive_time(pop: Population, controller: str, driven: np.ndarray) -> np.ndarr
     """Time to the goal over the optimal time (BARN's AT / OT); a failure counts as the robot's
     timeout factor, the most an episode may last."""
     episodes = episodes_of(pop, controller, driven)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = np.where(episodes.failed, _robot(pop).timeout, episodes.time / episodes.optimal_time)
-    return _spread(pop, driven, ratio, episodes)
+    return _spread(pop, driven, episodes.time_ratio(_robot(pop).timeout), episodes)
 
 
 def drive_clearance(pop: Population, controller: str, driven: np.ndarray) -> np.ndarray:

@@ -21,7 +21,7 @@ from mazegen.runtime.engine.population import Population
 from mazegen.runtime.geometry.elements import ElementTable
 from mazegen.runtime.navigation.measures import navigation_of
 from mazegen.runtime.simulation import ARRIVED, NO_PATH, OUTCOMES, Episodes
-from mazegen.spec import Robot, Spec, robot_for
+from mazegen.spec import Robot, Spec
 
 
 def _round(value: float) -> float:
@@ -166,7 +166,7 @@ class Floors:
     @property
     def robot(self) -> Robot:
         """The spec's robot, or the arena's default robot when the spec has no robot block."""
-        return self.spec.robot or robot_for(self.spec.arena)
+        return self.spec.robot_or_default
 
     @property
     def without_path(self) -> list[str]:

@@ -179,18 +179,25 @@ class Problem:
     ) -> tuple[PopulationMap, Population]:
         """Map structure codons and decode placements (into ``workspace`` when given); ``searching``:
         for a search (see :attr:`Population.searching`)."""
-        numbers = self.spec.scenario.placement is not None  # only grammar placement reads them
+        numbers = self.reads_numbers
         out, params = (
             (None, None) if workspace is None else workspace.arrays(codons.shape[0], self.slots, numbers)
         )
-        mapped = self._map(codons, numbers, out)
+        mapped = self.map(codons, numbers=numbers, out=out)
         return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params, searching=searching)
 
     def usage(self, codons: np.ndarray) -> Usage:
         """How much of each genome of ``codons`` its mapping reads (for the operators within it)."""
-        return usage_of(self._map(codons, False, None), codons.shape[1])
+        return usage_of(self.map(codons, numbers=False), codons.shape[1])
 
-    def _map(self, codons: np.ndarray, numbers: bool, out: PopulationMap | None) -> PopulationMap:
+    @property
+    def reads_numbers(self) -> bool:
+        """Whether placements read the numbers a mapping collects (only grammar placement does)."""
+        return self.spec.scenario.placement is not None
+
+    def map(self, codons: np.ndarray, *, numbers: bool, out: PopulationMap | None = None) -> PopulationMap:
+        """Map structure codons with the spec's mapping settings (into ``out`` when given);
+        ``numbers``: collect the numbers grammar placement reads."""
         evolution = self.spec.evolution
         return map_population(
             self.compiled,

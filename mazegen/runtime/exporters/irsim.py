@@ -46,7 +46,7 @@ def floor_robot(floor: Floor) -> Robot:
             "an IR-SIM robot needs the arena's robot radius, which is not given", filename=floor.where
         )
     if floor.spec is not None:
-        return floor.spec.robot or robot_for(floor.spec.arena)
+        return floor.spec.robot_or_default
     start, goal = (tuple(float(v) for v in arena[key]) for key in ("start", "goal"))
     return robot_for(
         Arena(

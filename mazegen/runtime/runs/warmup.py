@@ -146,7 +146,7 @@ def drive_once(spec: Spec, floors: Population) -> None:
         return
     from mazegen.runtime import simulation
 
-    robot = spec.robot or robot_for(spec.arena)
+    robot = spec.robot_or_default
     for name in spec.drive_controllers:
         simulation.drive(floors, robot=robot, controller=robot.controller(name))
 

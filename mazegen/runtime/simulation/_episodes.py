@@ -54,10 +54,11 @@ class Episodes:
         """``bool[N]``: collided, timed out or had no path."""
         return self.outcome != ARRIVED
 
-    @property
-    def time_ratio(self) -> np.ndarray:
-        """Time over the optimal time; a failure counts as the whole timeout would have."""
-        return self.time / self.optimal_time
+    def time_ratio(self, failed_as: float) -> np.ndarray:
+        """Time over the optimal time (BARN's AT / OT), a failure counting as ``failed_as`` (the
+        robot's timeout factor: the longest an episode may last); NaN where no path exists."""
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(self.failed, failed_as, self.time / self.optimal_time)
 
     def score(self) -> np.ndarray:
         """The BARN challenge's score of each episode (see :func:`barn_score`)."""
