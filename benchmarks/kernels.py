@@ -157,7 +157,8 @@ def ga_step(selection: str, problem: Problem, sample: Sample) -> Callable[[], No
         sample.fitness,
         settings,
         out,
-        problem.usage,  # the operators within the used codons read it
+        problem.usage(sample.codons),  # the crossover within the used codons reads it
+        problem.usage,
     )
 
 
@@ -308,10 +309,12 @@ def generation_seconds(problem: Problem, sample: Sample, repeats: int) -> float:
     out = (np.empty_like(sample.codons), np.empty_like(sample.genes))
 
     def generation() -> None:
-        fitness = evolution.evaluate_cached(
+        evaluated = evolution.evaluate_cached(
             problem, sample.codons, sample.genes, EvaluationCache(), Workspace()
-        )[0]
-        evolution.breed(rng, sample.codons, sample.genes, fitness, settings, out, problem.usage)
+        )
+        evolution.breed(
+            rng, sample.codons, sample.genes, evaluated.fitness, settings, out, evaluated.usage, problem.usage
+        )
 
     return median_seconds(generation, repeats=repeats, warmup=WARMUP)
 

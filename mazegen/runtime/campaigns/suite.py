@@ -167,7 +167,13 @@ def fill_archive(
         if iteration and archive.filled.size:
             parents = archive.filled[rng.integers(0, archive.filled.size, size=batch)]
             make_children(
-                rng, archive.codons, archive.genes, parents, settings, (codons, genes), problem.usage
+                rng,
+                archive.codons,
+                archive.genes,
+                parents,
+                settings,
+                (codons, genes),
+                map_usage=problem.usage,
             )
         elif iteration:  # nothing solvable yet: start afresh
             codons = ops.random_codons(rng, batch, genome, settings.codon_max)

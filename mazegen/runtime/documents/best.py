@@ -11,32 +11,46 @@ from mazegen.runtime.engine.evolution import RunResult
 from mazegen.runtime.engine.mapping import phenotype
 from mazegen.runtime.engine.operators import ranking
 from mazegen.runtime.engine.problem import Evaluation, Problem
+from mazegen.runtime.engine.threads import threads_for
 
 
 def best_documents(
     problem: Problem, result: RunResult, *, count: int, origin: dict[str, Any]
 ) -> tuple[dict[str, Any], ...]:
     """The ``count`` best distinct valid scenarios of a final population, best first."""
+    # A few scenarios run on one thread, as small populations do (threads_for): measured on 2 cores,
+    # waking the second thread made the survey of ten floors 10 ms instead of 0.6 ms.
+    with threads_for(count):
+        chosen = best_distinct(problem, result, count)
+        codons, genes = result.codons[chosen], result.genes[chosen]
+        # Evaluated again on their own: the documents' metrics survey these scenarios alone.
+        evaluation = problem.evaluate(codons, genes)
+        return tuple(
+            row_document(problem, evaluation, row, codons[row], genes[row], {**origin, "rank": row + 1})
+            for row in range(chosen.size)
+        )
+
+
+def best_distinct(problem: Problem, result: RunResult, count: int) -> np.ndarray:
+    """Rows of the ``count`` best valid individuals of a final population whose scenarios differ
+    (:func:`scenario_key`), best first."""
     ranked = ranking(result.fitness)
     ranked = ranked[np.isfinite(result.fitness[ranked])]
-    documents: list[dict[str, Any]] = []
+    chosen: list[int] = []
     seen: set[bytes] = set()
-    # Candidates are evaluated a batch at a time; most batches hold enough distinct scenarios.
+    # Candidates are decoded a batch at a time; most batches hold enough distinct scenarios.
     batch = max(4 * count, 64)
     for start in range(0, ranked.size, batch):
-        chosen = ranked[start : start + batch]
-        codons, genes = result.codons[chosen], result.genes[chosen]
-        evaluation = problem.evaluate(codons, genes)
-        for row in range(chosen.size):
-            key = scenario_key(evaluation.population, row)
-            if key in seen:
-                continue
-            seen.add(key)
-            extra = {**origin, "rank": len(documents) + 1}
-            documents.append(row_document(problem, evaluation, row, codons[row], genes[row], extra))
-            if len(documents) == count:
-                return tuple(documents)
-    return tuple(documents)
+        rows = ranked[start : start + batch]
+        _, population = problem.decode(result.codons[rows], result.genes[rows])
+        for row in range(rows.size):
+            key = scenario_key(population, row)
+            if key not in seen:
+                seen.add(key)
+                chosen.append(int(rows[row]))
+                if len(chosen) == count:
+                    return np.array(chosen, dtype=np.int64)
+    return np.array(chosen, dtype=np.int64)
 
 
 def row_document(

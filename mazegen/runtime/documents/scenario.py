@@ -56,8 +56,9 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
     table = population.table
     # One rounding and one conversion for every vertex of the scenario.
     world = np.round(world_vertices(table, ids, params), DIGITS).tolist()
+    n_parts, n_vertices = table.n_parts.tolist(), table.n_vertices.tolist()
     out = []
-    for e, p, parts in zip(ids.tolist(), params, world):
+    for e, p, parts in zip(ids.tolist(), params.tolist(), world):
         kind = types[e]
         item: dict[str, Any] = {
             "type": kind.name,
@@ -73,7 +74,7 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
             item["size"] = _round(p[SX])
         else:
             item["width"], item["depth"] = _round(p[SX]), _round(p[SY])
-        item["parts"] = [parts[k][: table.n_vertices[e, k]] for k in range(table.n_parts[e])]
+        item["parts"] = [parts[k][: n_vertices[e][k]] for k in range(n_parts[e])]
         out.append(item)
     return out
 

@@ -1,8 +1,8 @@
 """Genome hashing and the evaluation cache of an evolution run.
 
 Rows are identified by a 64-bit hash of both chromosomes. The cache keeps the
-fitness of the previous generation's genomes, where nearly all repeats come from
-(elites and parents copied without change), and a generation's duplicates are
+fitness and codon usage of the previous generation's genomes, where nearly all repeats
+come from (elites and parents copied without change), and a generation's duplicates are
 evaluated once.
 """
 
@@ -12,6 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, prange
+
+from mazegen.runtime.engine.used_operators import Usage
 
 _FNV_OFFSETS = (  # one FNV-1a chain per lane, each from its own start
     np.uint64(0xCBF29CE484222325),
@@ -78,6 +80,8 @@ class Lookup:
         todo: Rows to evaluate: the first occurrence of each genome the cache lacks, ascending.
         first: ``int64[N]``: the first row holding the same genome as each row.
         fitness: ``float64[N]``: the cached fitness of first occurrences, NaN where unknown.
+        cached: Rows whose genome the cache holds (first occurrences), ascending.
+        cached_from: The previous generation's row of each of ``cached``.
         distinct: Number of distinct genomes in the generation.
         table: Open-addressing table of the generation's hashes (0 = empty slot).
         table_rows: The first row of each table slot's genome.
@@ -86,13 +90,15 @@ class Lookup:
     todo: np.ndarray
     first: np.ndarray
     fitness: np.ndarray
+    cached: np.ndarray
+    cached_from: np.ndarray
     distinct: int
     table: np.ndarray
     table_rows: np.ndarray
 
 
 class EvaluationCache:
-    """Fitness of the genomes of the last generation, in a hash table keyed by genome hash.
+    """Fitness and usage of the genomes of the last generation, in a hash table keyed by genome hash.
 
     Lookups and inserts run in a compiled loop over open-addressing tables (linear
     probing, at most half full): a generation of 50,000 is split in about a millisecond,
@@ -103,6 +109,7 @@ class EvaluationCache:
         self._table = np.zeros(1, dtype=np.uint64)
         self._rows = np.zeros(1, dtype=np.int64)
         self._fitness = np.zeros(1, dtype=np.float64)
+        self._usage = Usage.empty(0, 0)
 
     def lookup(self, hashes: np.ndarray) -> Lookup:
         """Split a generation by its genome ``hashes`` (from :func:`genome_hashes`)."""
@@ -112,13 +119,25 @@ class EvaluationCache:
         first = np.empty(hashes.shape[0], dtype=np.int64)
         fitness = np.full(hashes.shape[0], np.nan)
         todo = np.empty(hashes.shape[0], dtype=np.int64)
+        cached = np.empty(hashes.shape[0], dtype=np.int64)
+        cached_from = np.empty(hashes.shape[0], dtype=np.int64)
         old = (self._table, self._rows, self._fitness)
-        distinct, new = _split(hashes, old, table, table_rows, first, fitness, todo)
-        return Lookup(todo[:new], first, fitness, int(distinct), table, table_rows)
+        distinct, new, hits = _split(
+            hashes, old, table, table_rows, first, fitness, todo, cached, cached_from
+        )
+        return Lookup(
+            todo[:new], first, fitness, cached[:hits], cached_from[:hits], int(distinct), table, table_rows
+        )
 
-    def remember(self, lookup: Lookup, fitness: np.ndarray) -> None:
-        """Replace the cache with the generation of ``lookup``, whose rows scored ``fitness``."""
+    def recall_usage(self, lookup: Lookup, usage: Usage) -> None:
+        """Write the usage of ``lookup``'s cached rows into those rows of ``usage``."""
+        usage.put(lookup.cached, self._usage, lookup.cached_from)
+
+    def remember(self, lookup: Lookup, fitness: np.ndarray, usage: Usage) -> None:
+        """Replace the cache with the generation of ``lookup``, whose rows scored ``fitness`` and
+        read the codons ``usage`` says (every row, like ``fitness``)."""
         self._table, self._rows, self._fitness = lookup.table, lookup.table_rows, fitness
+        self._usage = usage
 
 
 @njit(cache=True, inline="always")
@@ -132,10 +151,13 @@ def _slot(table, key):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def _split(hashes, old, table, table_rows, first, fitness, todo):  # pragma: no cover - compiled
+def _split(
+    hashes, old, table, table_rows, first, fitness, todo, cached, cached_from
+):  # pragma: no cover - compiled
     old_table, old_rows, old_fitness = old
     distinct = 0
     new = 0
+    hits = 0
     for i in range(hashes.shape[0]):
         key = hashes[i] if hashes[i] != 0 else np.uint64(1)  # 0 marks empty slots
         slot = _slot(table, key)
@@ -149,7 +171,10 @@ def _split(hashes, old, table, table_rows, first, fitness, todo):  # pragma: no 
         seen = _slot(old_table, key)
         if old_table[seen] == key:
             fitness[i] = old_fitness[old_rows[seen]]
+            cached[hits] = i
+            cached_from[hits] = old_rows[seen]
+            hits += 1
         else:
             todo[new] = i
             new += 1
-    return distinct, new
+    return distinct, new, hits

@@ -72,26 +72,44 @@ class RunResult:
     stats: tuple[GenerationStats, ...]
 
 
+@dataclass(frozen=True)
+class CachedEvaluation:
+    """What evaluating a generation through the cache gives, per individual and in all.
+
+    Attributes:
+        fitness: ``float64[N]``.
+        usage: How much of each genome its mapping read (the operators within it breed from this).
+        evaluations: Genomes evaluated (neither cached nor repeated in the generation).
+        unique: Distinct genomes in the generation.
+    """
+
+    fitness: np.ndarray
+    usage: Usage
+    evaluations: int
+    unique: int
+
+
 def evaluate_cached(
     problem: Problem,
     codons: np.ndarray,
     genes: np.ndarray,
     cache: EvaluationCache,
     workspace: Workspace | None = None,
-) -> tuple[np.ndarray, int, int]:
-    """Fitness of a generation, evaluating each distinct unseen genome once (into ``workspace``).
-
-    Returns:
-        fitness per individual, number of genomes evaluated, number of distinct genomes.
-    """
+) -> CachedEvaluation:
+    """Fitness and usage of a generation, evaluating each distinct unseen genome once (into ``workspace``)."""
     lookup = cache.lookup(genome_hashes(codons, genes))
     fitness = lookup.fitness
+    usage = Usage.empty(codons.shape[0], problem.slots)
+    cache.recall_usage(lookup, usage)
     for start in range(0, lookup.todo.size, EVALUATION_CHUNK):
         rows = lookup.todo[start : start + EVALUATION_CHUNK]
-        fitness[rows] = problem.evaluate(codons[rows], genes[rows], workspace, searching=True).fitness
+        evaluation = problem.evaluate(codons[rows], genes[rows], workspace, searching=True)
+        fitness[rows] = evaluation.fitness
+        usage.put_mapped(rows, evaluation.mapped, codons.shape[1])
     fitness = fitness[lookup.first]
-    cache.remember(lookup, fitness)
-    return fitness, int(lookup.todo.size), lookup.distinct
+    usage.spread(lookup.first)
+    cache.remember(lookup, fitness, usage)
+    return CachedEvaluation(fitness, usage, int(lookup.todo.size), lookup.distinct)
 
 
 def breed(
@@ -101,7 +119,8 @@ def breed(
     fitness: np.ndarray,
     settings: Evolution,
     out: tuple[np.ndarray, np.ndarray],
-    usage: Callable[[np.ndarray], Usage] | None = None,
+    usage: Usage | None = None,
+    map_usage: Callable[[np.ndarray], Usage] | None = None,
 ) -> None:
     """Write the next generation into ``out``: elites unchanged, then selected, crossed and mutated children.
 
@@ -112,8 +131,10 @@ def breed(
         fitness: This generation's fitness.
         settings: Selection, crossover and mutation settings.
         out: Codon and gene arrays shaped like ``codons`` and ``genes``, overwritten.
-        usage: The :class:`Usage` of structure codons (their mapping): needed by the operators
-            that work within the used codons.
+        usage: The :class:`Usage` of each row of ``codons`` (from their evaluation), which the
+            crossovers within the used codons read; without it, ``map_usage`` maps the parents.
+        map_usage: The :class:`Usage` of any structure codons (their mapping): the mutation within
+            the used codons maps the crossed children with it.
     """
     out_codons, out_genes = out
     elites = ops.ranking(fitness, settings.elitism)
@@ -125,7 +146,7 @@ def breed(
     out_codons[: elites.size] = codons[elites]
     out_genes[: elites.size] = genes[elites]
     children = (out_codons[elites.size :], out_genes[elites.size :])
-    make_children(rng, codons, genes, parents, settings, children, usage)
+    make_children(rng, codons, genes, parents, settings, children, usage, map_usage)
 
 
 def make_children(
@@ -135,32 +156,36 @@ def make_children(
     parents: np.ndarray,
     settings: Evolution,
     out: tuple[np.ndarray, np.ndarray],
-    usage: Callable[[np.ndarray], Usage] | None = None,
+    usage: Usage | None = None,
+    map_usage: Callable[[np.ndarray], Usage] | None = None,
 ) -> None:
     """Write the children of ``parents`` (rows of ``codons`` and ``genes``) into ``out``, one row per
     parent: pairs crossed, then mutated, by the operators ``settings`` name.
 
     Args:
-        usage: As in :func:`breed`.
+        usage, map_usage: As in :func:`breed`.
     """
     length, slots, count = codons.shape[1], genes.shape[1], parents.shape[0]
     within_used = settings.crossover_operator != "onepoint within genome"
-    if usage is None and (within_used or settings.mutation_operator == "within used"):
+    mutation_within = settings.mutation_operator == "within used"
+    if map_usage is None and ((within_used and usage is None) or mutation_within):
         raise ValueError("operators within the used codons need the usage of the genomes")
     if within_used:
-        assert usage is not None
-        rows, each = np.unique(parents, return_inverse=True)  # parents repeat: map each once
-        used = usage(codons[rows]).take(each)
+        if usage is None:
+            assert map_usage is not None
+            rows = np.unique(parents)  # parents repeat: map each once
+            usage = Usage.empty(codons.shape[0], slots)
+            usage.put(rows, map_usage(codons[rows]), np.arange(rows.size))
         variable = settings.crossover_operator == "variable within used"
-        cuts = uo.cut_draws(rng, parents=used, rate=settings.crossover, variable=variable)
-        uo.splice_children(codons, genes, parents, cuts, used, out)
+        cuts = uo.cut_draws(rng, used=usage.codons[parents], rate=settings.crossover, variable=variable)
+        uo.splice_children(codons, genes, parents, cuts, usage, out)
     else:
         crossover = ops.crossover_draws(rng, count, length, slots, settings.crossover)
-    if settings.mutation_operator == "within used":
-        assert usage is not None
+    if mutation_within:
+        assert map_usage is not None
         if not within_used:
             ops.cross(codons, genes, parents, crossover, *out)
-        child_usage = usage(out[0])  # PonyGE2 maps a crossed child before it mutates it
+        child_usage = map_usage(out[0])  # PonyGE2 maps a crossed child before it mutates it
         mutation = uo.used_mutation_draws(
             rng,
             usage=child_usage,
@@ -199,7 +224,7 @@ def generation_stats(
     )
 
 
-def primed_cache(codons: np.ndarray, genes: np.ndarray, fitness: np.ndarray) -> EvaluationCache:
+def primed_cache(codons: np.ndarray, genes: np.ndarray, fitness: np.ndarray, usage: Usage) -> EvaluationCache:
     """The evaluation cache as it stands after evaluating a generation.
 
     The cache holds only the last generation: its table depends on that generation's
@@ -207,7 +232,7 @@ def primed_cache(codons: np.ndarray, genes: np.ndarray, fitness: np.ndarray) -> 
     and cache hits as one that never stopped.
     """
     cache = EvaluationCache()
-    cache.remember(cache.lookup(genome_hashes(codons, genes)), fitness)
+    cache.remember(cache.lookup(genome_hashes(codons, genes)), fitness, usage)
     return cache
 
 
@@ -247,20 +272,29 @@ def _evolve(
         codons = ops.random_codons(rng, settings.population, settings.genome, settings.codon_max)
         genes = ops.random_genes(rng, settings.population, problem.slots)
         cache = EvaluationCache()
-        fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache, workspace)
-        stats = [generation_stats(0, fitness, evaluations, unique, perf_counter() - started)]
+        evaluated = evaluate_cached(problem, codons, genes, cache, workspace)
+        fitness, usage = evaluated.fitness, evaluated.usage
+        stats = [_stats(0, evaluated, started)]
         on_generation(RunState(0, codons, genes, fitness, rng.bit_generator.state, tuple(stats)))
     else:
         rng.bit_generator.state = resume.rng_state
         codons, genes, fitness = resume.codons.copy(), resume.genes.copy(), resume.fitness.copy()
-        cache = primed_cache(codons, genes, fitness)
+        usage = problem.usage(codons)
+        cache = primed_cache(codons, genes, fitness, usage)
         stats = list(resume.stats)
     spare = (np.empty_like(codons), np.empty_like(genes))  # the next generation is bred into these
     for generation in range(len(stats), settings.generations + 1):
         started = perf_counter()
-        breed(rng, codons, genes, fitness, settings, spare, problem.usage)
+        breed(rng, codons, genes, fitness, settings, spare, usage, problem.usage)
         spare, (codons, genes) = (codons, genes), spare
-        fitness, evaluations, unique = evaluate_cached(problem, codons, genes, cache, workspace)
-        stats.append(generation_stats(generation, fitness, evaluations, unique, perf_counter() - started))
+        evaluated = evaluate_cached(problem, codons, genes, cache, workspace)
+        fitness, usage = evaluated.fitness, evaluated.usage
+        stats.append(_stats(generation, evaluated, started))
         on_generation(RunState(generation, codons, genes, fitness, rng.bit_generator.state, tuple(stats)))
     return RunResult(codons, genes, fitness, tuple(stats))
+
+
+def _stats(generation: int, evaluated: CachedEvaluation, started: float) -> GenerationStats:
+    return generation_stats(
+        generation, evaluated.fitness, evaluated.evaluations, evaluated.unique, perf_counter() - started
+    )

@@ -6,6 +6,7 @@ import importlib.util
 import sys
 import traceback
 from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -13,7 +14,8 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.runtime.engine.bnf import Grammar, read_bnf
+from mazegen.fileio import read_text
+from mazegen.runtime.engine.bnf import Grammar, parse_bnf
 from mazegen.runtime.engine.compiled_grammar import CompiledGrammar, compile_grammar
 from mazegen.runtime.engine.mapping import NUMBERS_PER_ELEMENT, PopulationMap, map_population
 from mazegen.runtime.engine.population import PLACEMENT_GENES, Population, Ranges, decode
@@ -70,6 +72,20 @@ def _made_by_an_earlier_version(error: ModuleNotFoundError, path: Path) -> MazeE
         filename=str(path),
         line=lines[-1] if lines else None,
     )
+
+
+@lru_cache(maxsize=16)
+def fitness_module(path: str, text: str) -> ModuleType:
+    """The fitness module ``path`` holds as ``text``, loaded once per process for each text: its
+    functions are pure, so the problems of one build share it, and an edit loads it afresh."""
+    return _load_fitness(Path(path))
+
+
+@lru_cache(maxsize=16)
+def compiled_bnf(text: str, filename: str, elements: tuple[str, ...]) -> tuple[Grammar, CompiledGrammar]:
+    """The grammar ``text`` (from ``filename``) parsed and compiled for ``elements``, once per process."""
+    grammar = parse_bnf(text, filename=filename)
+    return grammar, compile_grammar(grammar, list(elements))
 
 
 def _load_fitness(path: Path) -> ModuleType:
@@ -150,17 +166,32 @@ class Problem:
 
     @classmethod
     def from_build_dir(cls, build_dir: Path) -> Problem:
-        """Load ``spec.json``, ``grammar.bnf`` and ``fitness.py`` from a build directory."""
+        """Load ``spec.json``, ``grammar.bnf`` and ``fitness.py`` from a build directory (the grammar
+        and the fitness module are parsed once per process for each text they hold)."""
         spec = read_build_spec(build_dir)
-        grammar = read_bnf(build_dir / "grammar.bnf")
-        types = spec.scenario_elements
+        grammar_path, fitness_path = build_dir / "grammar.bnf", build_dir / "fitness.py"
+        grammar = read_text(grammar_path, "grammar")
+        module = fitness_module(str(fitness_path), read_text(fitness_path, "fitness module"))
+        return cls.assemble(
+            spec, compiled_bnf(grammar, str(grammar_path), tuple(spec.scenario.elements)), module, build_dir
+        )
+
+    @classmethod
+    def assemble(
+        cls,
+        spec: Spec,
+        grammar: tuple[Grammar, CompiledGrammar],
+        fitness_module: ModuleType,
+        build_dir: Path,
+    ) -> Problem:
+        """The problem of ``spec`` with its grammar (from :func:`compiled_bnf`) and fitness module."""
         return cls(
             spec=spec,
-            grammar=grammar,
-            compiled=compile_grammar(grammar, [t.name for t in types]),
-            table=ElementTable.from_types(types),
+            grammar=grammar[0],
+            compiled=grammar[1],
+            table=ElementTable.from_types(spec.scenario_elements),
             ranges=Ranges.from_spec(spec),
-            fitness_module=_load_fitness(build_dir / "fitness.py"),
+            fitness_module=fitness_module,
             build_dir=build_dir,
         )
 

@@ -48,19 +48,74 @@ class Usage:
     rows: np.ndarray
     element_codons: np.ndarray
 
+    @classmethod
+    def empty(cls, count: int, slots: int) -> Usage:
+        """Room for the usage of ``count`` genomes of ``slots`` element slots, for the ``put`` methods."""
+        return cls(np.empty(count, np.int64), np.empty(count, np.int64), np.empty((count, slots), np.int32))
+
     def take(self, indices: np.ndarray) -> Usage:
         """The usage of rows ``indices``, in that order."""
         return Usage(self.codons[indices], self.rows[indices], self.element_codons[indices])
 
+    def put(self, rows: np.ndarray, source: Usage, source_rows: np.ndarray) -> None:
+        """Write rows ``source_rows`` of ``source`` into rows ``rows``."""
+        _put_rows(rows, source_rows, *source.arrays, *self.arrays)
+
+    def put_mapped(self, rows: np.ndarray, mapped: PopulationMap, length: int) -> None:
+        """Write the usage of genomes of width ``length`` (one per row of ``mapped``) into rows ``rows``."""
+        arrays = (mapped.valid, mapped.used_codons, mapped.n_elements, mapped.element_codons)
+        _put_mapped(rows, *arrays, length, *self.arrays)
+
+    def spread(self, first: np.ndarray) -> None:
+        """Copy row ``first[i]`` into each row ``i`` whose ``first[i]`` (an earlier row) differs."""
+        _spread(first, *self.arrays)
+
+    @property
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        return self.codons, self.rows, self.element_codons
+
 
 def usage_of(mapped: PopulationMap, length: int) -> Usage:
     """The :class:`Usage` of genomes of width ``length`` from their mapping."""
-    slots = mapped.element_ids.shape[1]
-    return Usage(
-        codons=np.where(mapped.valid, np.minimum(mapped.used_codons, length), length).astype(np.int64),
-        rows=np.where(mapped.valid, mapped.n_elements, slots).astype(np.int64),
-        element_codons=mapped.element_codons,
-    )
+    count, slots = mapped.element_ids.shape
+    usage = Usage.empty(count, slots)
+    usage.put_mapped(np.arange(count), mapped, length)
+    return usage
+
+
+# Small copies in compiled loops: as NumPy fancy indexing they cost a generation of 1,000 about
+# as much as mapping its parents again.
+@njit(cache=True)
+def _put_rows(
+    rows, source_rows, codons, used_rows, elements, out_codons, out_rows, out_elements
+):  # pragma: no cover - compiled
+    for j in range(rows.shape[0]):
+        i, s = rows[j], source_rows[j]
+        out_codons[i], out_rows[i] = codons[s], used_rows[s]
+        out_elements[i] = elements[s]
+
+
+@njit(cache=True)
+def _put_mapped(
+    rows, valid, used_codons, n_elements, elements, length, out_codons, out_rows, out_elements
+):  # pragma: no cover - compiled
+    slots = out_elements.shape[1]
+    for j in range(rows.shape[0]):
+        i = rows[j]
+        if valid[j]:
+            out_codons[i], out_rows[i] = min(used_codons[j], length), n_elements[j]
+        else:
+            out_codons[i], out_rows[i] = length, slots
+        out_elements[i] = elements[j]
+
+
+@njit(cache=True)
+def _spread(first, codons, used_rows, elements):  # pragma: no cover - compiled
+    for i in range(first.shape[0]):
+        f = first[i]
+        if f != i:
+            codons[i], used_rows[i] = codons[f], used_rows[f]
+            elements[i] = elements[f]
 
 
 @dataclass(frozen=True)
@@ -78,17 +133,17 @@ class CutDraws:
     second_cut: np.ndarray
 
 
-def cut_draws(rng: np.random.Generator, *, parents: Usage, rate: float, variable: bool) -> CutDraws:
+def cut_draws(rng: np.random.Generator, *, used: np.ndarray, rate: float, variable: bool) -> CutDraws:
     """Draw the crossover of parents taken two by two (an odd last one is copied).
 
     Each pair crosses with probability ``rate``; cuts are uniform within the used codons (at least
     1, where an individual used none), as PonyGE2's ``randint(1, used)``.
 
     Args:
-        parents: The usage of each parent, in the order they pair.
+        used: The codons each parent used (:attr:`Usage.codons`), in the order they pair.
     """
-    pairs = parents.codons.shape[0] // 2
-    used = np.maximum(parents.codons[: 2 * pairs], 1)
+    pairs = used.shape[0] // 2
+    used = np.maximum(used[: 2 * pairs], 1)
     first_used, second_used = used[0::2], used[1::2]
     crossing = rng.random(pairs) < rate
     if variable:
@@ -109,8 +164,8 @@ def splice_children(
     """Write the crossed children of ``parents`` into ``out`` (codons, genes), one row per parent.
 
     Row ``2i`` is parent ``2i``'s head up to its cut, then parent ``2i+1``'s tail from its cut;
-    row ``2i+1`` the other way round; pairs that do not cross are copied. ``usage`` is each
-    parent's (aligned with ``parents``), for the element slots each head keeps.
+    row ``2i+1`` the other way round; pairs that do not cross are copied. ``usage`` is that of the
+    rows of ``codons``, for the element slots each head keeps.
     """
     out_codons, out_genes = out
     children, row = parents.shape[0], genes.shape[1] * PLACEMENT_GENES
@@ -137,17 +192,15 @@ def _splice_pairs(
         cut_a, cut_b, rows_a, rows_b = length, length, slots, slots  # a pair that does not cross
         if crossing[p]:
             cut_a, cut_b = first_cut[p], second_cut[p]
-            rows_a, rows_b = (
-                _elements_within(element_codons[2 * p], cut_a),
-                _elements_within(element_codons[2 * p + 1], cut_b),
-            )
+            rows_a = _elements_within(element_codons[a], cut_a)
+            rows_b = _elements_within(element_codons[b], cut_b)
         _splice(codons, a, b, cut_a, cut_b, out_codons, 2 * p)
         _splice(codons, b, a, cut_b, cut_a, out_codons, 2 * p + 1)
         _splice(genes, a, b, rows_a * PLACEMENT_GENES, rows_b * PLACEMENT_GENES, out_genes, 2 * p)
         _splice(genes, b, a, rows_b * PLACEMENT_GENES, rows_a * PLACEMENT_GENES, out_genes, 2 * p + 1)
     if children % 2:
-        out_codons[children - 1] = codons[parents[children - 1]]
-        out_genes[children - 1] = genes[parents[children - 1]]
+        _splice(codons, parents[children - 1], 0, length, length, out_codons, children - 1)
+        _splice(genes, parents[children - 1], 0, genes.shape[1], genes.shape[1], out_genes, children - 1)
 
 
 @njit(cache=True, inline="always")

@@ -65,10 +65,10 @@ class Experiment:
         }
 
     def build_files(self) -> BuildFiles:
-        """The texts a worker rebuilds the problem from (``spec.json`` with the overrides)."""
+        """What a worker rebuilds the problem from (the spec with the overrides)."""
         build = self.problem.build_dir
         return BuildFiles(
-            spec=self.problem.spec.to_json(),
+            spec=self.problem.spec,
             grammar=(build / "grammar.bnf").read_text(encoding="utf-8"),
             fitness=(build / "fitness.py").read_text(encoding="utf-8"),
         )

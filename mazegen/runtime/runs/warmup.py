@@ -166,6 +166,6 @@ def compile_evolution_kernels(problem: Problem) -> None:
     for crossover, mutation in zip(CROSSOVER_OPERATORS, itertools.cycle(MUTATION_OPERATORS)):
         operators = dataclasses.replace(settings, crossover_operator=crossover, mutation_operator=mutation)
         spare = (np.empty_like(codons), np.empty_like(genes))
-        breed(rng, codons, genes, np.zeros(TINY), operators, spare, problem.usage)
+        breed(rng, codons, genes, np.zeros(TINY), operators, spare, map_usage=problem.usage)
     # Last, when the helper has most likely cached solvability: whatever else the fitness calls.
     evolve(problem, settings, rng)

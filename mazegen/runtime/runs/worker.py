@@ -1,10 +1,11 @@
 """One run of an experiment, wherever it executes: this process, a local worker process or a Dask worker.
 
 A run is a pure function of the built experiment, its seed and its run number, so a
-:class:`RunTask` carries the build's file texts (a few KB, which pickle anywhere)
-rather than a loaded problem, whose fitness module and kernels are rebuilt in the
-worker. What the run reports while it goes, and whether it is asked to stop, goes
-through a :class:`Channel` that each executor provides.
+:class:`RunTask` carries the spec (plain dataclasses) and the build's grammar and fitness
+texts (a few KB, which pickle anywhere) rather than a loaded problem, whose fitness module
+is loaded again in the worker, once per process and text. What the run reports while it
+goes, and whether it is asked to stop, goes through a :class:`Channel` that each executor
+provides.
 """
 
 from __future__ import annotations
@@ -14,9 +15,10 @@ import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache
 from pathlib import Path
 from time import perf_counter
+from types import ModuleType
 from typing import Any, Protocol
 
 import numba
@@ -31,8 +33,9 @@ from mazegen.runtime.runs.checkpoint import (
 )
 from mazegen.runtime.documents.best import best_documents
 from mazegen.runtime.engine.evolution import GenerationStats, RunResult, RunState, evolve
-from mazegen.runtime.engine.problem import Problem
+from mazegen.runtime.engine.problem import Problem, compiled_bnf, fitness_module
 from mazegen.runtime.runs.results import run_files, writing_checkpoints
+from mazegen.spec import Spec
 
 RunKey = tuple[int, int]
 """(experiment index in the launch, run number from 1)."""
@@ -40,17 +43,18 @@ RunKey = tuple[int, int]
 
 @dataclass(frozen=True)
 class BuildFiles:
-    """The texts of a build directory that a run needs (``spec.json`` with overrides applied)."""
+    """What a run needs of a build directory: the spec (overrides applied), the grammar's and the
+    fitness module's texts."""
 
-    spec: str
+    spec: Spec
     grammar: str
     fitness: str
 
-    @property
+    @cached_property
     def digest(self) -> str:
         """Identifies the experiment: checkpoints of another one are refused."""
         hasher = hashlib.sha256()
-        for text in (self.spec, self.grammar, self.fitness):
+        for text in (self.spec.to_json(), self.grammar, self.fitness):
             hasher.update(text.encode("utf-8") + b"\0")
         return hasher.hexdigest()[:16]
 
@@ -129,18 +133,20 @@ def run_rng(seed: int, run: int) -> np.random.Generator:
     return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(run - 1,)))
 
 
-@lru_cache(maxsize=8)
 def problem_of(build: BuildFiles) -> Problem:
-    """The problem of a build, loaded once per process (tasks of one experiment share it)."""
+    """The problem of a build; its grammar and fitness module are loaded once per process and text."""
+    grammar = compiled_bnf(build.grammar, "grammar.bnf", tuple(build.spec.scenario.elements))
+    module = _fitness_module(build.fitness)
+    return Problem.assemble(build.spec, grammar, module, Path(module.__file__ or ".").parent)
+
+
+@lru_cache(maxsize=8)
+def _fitness_module(text: str) -> ModuleType:
     with tempfile.TemporaryDirectory(prefix="mazegen-worker-") as folder:
-        # Problem.from_build_dir reads every file while loading, so the folder can go after.
-        for name, text in (
-            ("spec.json", build.spec),
-            ("grammar.bnf", build.grammar),
-            ("fitness.py", build.fitness),
-        ):
-            (Path(folder) / name).write_text(text, encoding="utf-8")
-        return Problem.from_build_dir(Path(folder))
+        path = Path(folder) / "fitness.py"
+        # Loading runs the module from the file, which can go after.
+        path.write_text(text, encoding="utf-8")
+        return fitness_module(str(path), text)
 
 
 @contextmanager

@@ -10,6 +10,7 @@ from mazegen.generator.build import build
 from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine.evolution import evaluate_cached
 from mazegen.runtime.engine.problem import Problem, Workspace
+from mazegen.runtime.engine.used_operators import Usage
 from tests.conftest import EXAMPLES
 
 MASK = (1 << 64) - 1
@@ -63,7 +64,7 @@ def test_cache_split_equals_a_dictionary_reference(size):
     """Two generations drawn from a small pool of hashes: duplicates, cache hits and new genomes."""
     rng = np.random.default_rng(size)
     pool = rng.integers(2, 2**63, size=max(size, 1), dtype=np.uint64)
-    cache, remembered = EvaluationCache(), {}
+    cache, remembered, remembered_rows = EvaluationCache(), {}, {}
     for generation in range(3):
         hashes = pool[rng.integers(0, pool.size, size=size)]
         lookup = cache.lookup(hashes)
@@ -77,11 +78,27 @@ def test_cache_split_equals_a_dictionary_reference(size):
         for value, row in first_row.items():
             if value in remembered:
                 assert lookup.fitness[row] == remembered[value]
+        expected_cached = sorted(row for value, row in first_row.items() if value in remembered)
+        assert lookup.cached.tolist() == expected_cached
+        assert lookup.cached_from.tolist() == [remembered_rows[int(hashes[row])] for row in expected_cached]
+        if generation:
+            # Each row's usage records its generation and row: the cache gives the old ones back.
+            recalled = Usage.empty(size, 2)
+            recalled.codons[:] = -1
+            cache.recall_usage(lookup, recalled)
+            expected = np.full(size, -1)
+            expected[expected_cached] = [
+                1000 * (generation - 1) + remembered_rows[int(hashes[row])] for row in expected_cached
+            ]
+            assert recalled.codons.tolist() == expected.tolist()
         fitness = lookup.fitness.copy()
         fitness[lookup.todo] = rng.random(lookup.todo.size) + generation  # "evaluated"
         fitness = fitness[lookup.first]
-        cache.remember(lookup, fitness)
+        usage = Usage.empty(size, 2)
+        usage.codons[:] = 1000 * generation + lookup.first
+        cache.remember(lookup, fitness, usage)
         remembered = {value: fitness[row] for value, row in first_row.items()}
+        remembered_rows = {value: row for value, row in first_row.items()}
 
 
 def test_cached_evaluation_equals_direct_evaluation(tmp_path):
@@ -93,9 +110,16 @@ def test_cached_evaluation_equals_direct_evaluation(tmp_path):
     codons[300:], genes[300:] = codons[:300], genes[:300]  # every genome twice
     cache, workspace = EvaluationCache(), Workspace()
     direct = problem.evaluate(codons, genes).fitness
-    fitness, evaluated, unique = evaluate_cached(problem, codons, genes, cache, workspace)
-    assert np.array_equal(fitness, direct) and (evaluated, unique) == (300, 300)
+    first = evaluate_cached(problem, codons, genes, cache, workspace)
+    assert np.array_equal(first.fitness, direct) and (first.evaluations, first.unique) == (300, 300)
+    assert_same_usage(first.usage, problem.usage(codons))
     codons[:100] = rng.integers(0, 256, size=(100, 32))  # a next generation: 100 new genomes
-    fitness, evaluated, unique = evaluate_cached(problem, codons, genes, cache, workspace)
-    assert np.array_equal(fitness, problem.evaluate(codons, genes).fitness)
-    assert (evaluated, unique) == (100, 400) and np.isfinite(fitness).any()  # the 300 old ones are cached
+    second = evaluate_cached(problem, codons, genes, cache, workspace)
+    assert np.array_equal(second.fitness, problem.evaluate(codons, genes).fitness)
+    assert (second.evaluations, second.unique) == (100, 400) and np.isfinite(second.fitness).any()
+    assert_same_usage(second.usage, problem.usage(codons))  # the 300 old ones from the cache
+
+
+def assert_same_usage(got: Usage, expected: Usage) -> None:
+    assert np.array_equal(got.codons, expected.codons) and np.array_equal(got.rows, expected.rows)
+    assert np.array_equal(got.element_codons, expected.element_codons)

@@ -82,7 +82,7 @@ def reference_cuts(draw, parents, usage, rate, variable):
 def test_within_used_crossover_never_cuts_past_either_parents_used_length(variable, seed):
     usage = random_usage(seed, 300)
     parents = rng(seed + 10).integers(0, 300, size=2001)
-    cuts = uo.cut_draws(rng(seed), parents=usage.take(parents), rate=0.9, variable=variable)
+    cuts = uo.cut_draws(rng(seed), used=usage.codons[parents], rate=0.9, variable=variable)
     used = np.maximum(usage.codons, 1)
     first, second = parents[0:2000:2], parents[1:2000:2]
     assert (cuts.first_cut >= 1).all() and (cuts.second_cut >= 1).all()
@@ -104,12 +104,12 @@ def test_crossover_equals_ponyge2s_definition(variable, population, count, rate)
     genes = ops.random_genes(rng(2), population, SLOTS)
     usage = random_usage(3, population)
     parents = rng(4).integers(0, population, size=count)
-    cuts = uo.cut_draws(rng(5), parents=usage.take(parents), rate=rate, variable=variable)
+    cuts = uo.cut_draws(rng(5), used=usage.codons[parents], rate=rate, variable=variable)
     expected_cuts = reference_cuts(rng(5), parents, usage, rate, variable)
     for name in ("crossing", "first_cut", "second_cut"):
         assert np.array_equal(getattr(cuts, name), getattr(expected_cuts, name)), name
     out = (np.full((count, LENGTH), -1, np.int32), np.zeros((count, SLOTS, 5), np.uint16))
-    uo.splice_children(codons, genes, parents, cuts, usage.take(parents), out)
+    uo.splice_children(codons, genes, parents, cuts, usage, out)
     expected = reference_splice(codons, genes, parents, cuts, usage)
     assert np.array_equal(out[0], expected[0]) and np.array_equal(out[1], expected[1])
 
@@ -136,12 +136,12 @@ def test_a_childs_placement_rows_come_from_the_parent_its_element_slots_came_fro
     usage = factory.usage(codons)
     assert np.array_equal(usage.element_codons, parents_map.element_codons)
     parents = np.flatnonzero(parents_map.valid & (parents_map.n_elements >= 2))[:200]
-    cuts = uo.cut_draws(draw, parents=usage.take(parents), rate=1.0, variable=variable)
+    cuts = uo.cut_draws(draw, used=usage.codons[parents], rate=1.0, variable=variable)
     out = (
         np.empty((parents.size, codons.shape[1]), np.int32),
         np.empty((parents.size, factory.slots, 5), np.uint16),
     )
-    uo.splice_children(codons, genes, parents, cuts, usage.take(parents), out)
+    uo.splice_children(codons, genes, parents, cuts, usage, out)
     children = factory.evaluate(*out)
     parents_placed = factory.evaluate(codons[parents], genes[parents]).population.params
     checked = 0
@@ -242,13 +242,35 @@ def test_breeding_within_used_mutates_what_the_child_uses(factory):
         seen.append(rows.copy())
         return factory.usage(rows)
 
-    breed(rng(4), codons, genes, fitness, settings, out, usage)
+    breed(rng(4), codons, genes, fitness, settings, out, map_usage=usage)
     parents_mapped, children_before = seen
     child_usage = factory.usage(children_before)
     changed = out[0] != children_before
     assert changed.any()
     assert (np.argwhere(changed)[:, 1] < child_usage.codons[np.argwhere(changed)[:, 0]]).all()
     assert parents_mapped.shape[0] < 300  # each parent once, however often selected
+
+
+@pytest.mark.parametrize("crossover", CROSSOVER_OPERATORS[:2])
+def test_breeding_from_the_generations_usage_equals_mapping_the_parents(factory, crossover):
+    """The evolution hands breeding the usage its evaluation found; mapping the parents again gives
+    the same children."""
+    settings = dataclasses.replace(factory.spec.evolution, crossover_operator=crossover, population=300)
+    draw = rng(6)
+    codons = ops.random_codons(draw, 300, settings.genome, 255)
+    genes = ops.random_genes(draw, 300, factory.slots)
+    fitness = factory.evaluate(codons, genes).fitness
+    mapped, carried = (
+        (np.empty_like(codons), np.empty_like(genes)),
+        (np.empty_like(codons), np.empty_like(genes)),
+    )
+    breed(rng(7), codons, genes, fitness, settings, mapped, map_usage=factory.usage)
+    breed(rng(7), codons, genes, fitness, settings, carried, factory.usage(codons))
+    assert np.array_equal(mapped[0], carried[0]) and np.array_equal(mapped[1], carried[1])
+    wrong = factory.usage(codons)
+    wrong.codons[:] = 1  # as if every genome used its first codon alone: other cuts, other children
+    breed(rng(7), codons, genes, fitness, settings, carried, wrong)
+    assert not np.array_equal(mapped[0], carried[0])
 
 
 @pytest.mark.parametrize("crossover", CROSSOVER_OPERATORS)
