@@ -78,7 +78,7 @@ def _made_by_an_earlier_version(error: ModuleNotFoundError, path: Path) -> MazeE
 def fitness_module(path: str, text: str) -> ModuleType:
     """The fitness module ``path`` holds as ``text``, loaded once per process for each text: its
     functions are pure, so the problems of one build share it, and an edit loads it afresh."""
-    return _load_fitness(Path(path))
+    return load_fitness(Path(path))
 
 
 @lru_cache(maxsize=16)
@@ -88,7 +88,8 @@ def compiled_bnf(text: str, filename: str, elements: tuple[str, ...]) -> tuple[G
     return grammar, compile_grammar(grammar, list(elements))
 
 
-def _load_fitness(path: Path) -> ModuleType:
+def load_fitness(path: Path) -> ModuleType:
+    """The fitness module at ``path``, loaded afresh; a module that does not load is a one-line error."""
     module_name = f"mazegen_fitness_{abs(hash(str(path)))}"
     loader_spec = importlib.util.spec_from_file_location(module_name, path)
     if loader_spec is None or loader_spec.loader is None:

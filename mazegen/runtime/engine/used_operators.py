@@ -53,10 +53,6 @@ class Usage:
         """Room for the usage of ``count`` genomes of ``slots`` element slots, for the ``put`` methods."""
         return cls(np.empty(count, np.int64), np.empty(count, np.int64), np.empty((count, slots), np.int32))
 
-    def take(self, indices: np.ndarray) -> Usage:
-        """The usage of rows ``indices``, in that order."""
-        return Usage(self.codons[indices], self.rows[indices], self.element_codons[indices])
-
     def put(self, rows: np.ndarray, source: Usage, source_rows: np.ndarray) -> None:
         """Write rows ``source_rows`` of ``source`` into rows ``rows``."""
         _put_rows(rows, source_rows, *source.arrays, *self.arrays)
@@ -72,6 +68,7 @@ class Usage:
 
     @property
     def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The three arrays, in field order (as the compiled copies take them)."""
         return self.codons, self.rows, self.element_codons
 
 

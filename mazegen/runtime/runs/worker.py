@@ -33,7 +33,7 @@ from mazegen.runtime.runs.checkpoint import (
 )
 from mazegen.runtime.documents.best import best_documents
 from mazegen.runtime.engine.evolution import GenerationStats, RunResult, RunState, evolve
-from mazegen.runtime.engine.problem import Problem, compiled_bnf, fitness_module
+from mazegen.runtime.engine.problem import Problem, compiled_bnf, load_fitness
 from mazegen.runtime.runs.results import run_files, writing_checkpoints
 from mazegen.spec import Spec
 
@@ -146,7 +146,7 @@ def _fitness_module(text: str) -> ModuleType:
         path = Path(folder) / "fitness.py"
         # Loading runs the module from the file, which can go after.
         path.write_text(text, encoding="utf-8")
-        return fitness_module(str(path), text)
+        return load_fitness(path)
 
 
 @contextmanager
