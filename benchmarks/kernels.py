@@ -34,7 +34,7 @@ from common import BENCHMARKS, ROOT, markdown_table, median_seconds, peak_rss_mb
 import mazegen
 from mazegen.generator.build import build
 from mazegen.runtime import metrics
-from mazegen.runtime.engine import evolution
+from mazegen.runtime.engine import breeding, evolution
 from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine.mapping import PopulationMap
 from mazegen.runtime.engine.operators import random_codons, random_genes
@@ -150,7 +150,7 @@ def ga_step(selection: str, problem: Problem, sample: Sample) -> Callable[[], No
     settings = dataclasses.replace(problem.spec.evolution, population=sample.rows, selection=selection)
     out = (np.empty_like(sample.codons), np.empty_like(sample.genes))
     return partial(
-        evolution.breed,
+        breeding.breed,
         np.random.default_rng(2),
         sample.codons,
         sample.genes,
@@ -312,7 +312,7 @@ def generation_seconds(problem: Problem, sample: Sample, repeats: int) -> float:
         evaluated = evolution.evaluate_cached(
             problem, sample.codons, sample.genes, EvaluationCache(), Workspace()
         )
-        evolution.breed(
+        breeding.breed(
             rng, sample.codons, sample.genes, evaluated.fitness, settings, out, evaluated.usage, problem.usage
         )
 

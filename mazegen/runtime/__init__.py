@@ -84,10 +84,20 @@ def run_kernels(spec: Spec) -> tuple[str, ...]:
     return EVERY_RUN_KERNELS + tuple(kernel for kind in kinds for kernel in DRIVE_KERNELS[kind])
 
 
+_FOUND: set[tuple[str, str]] = set()
+"""(cache folder, kernel) pairs found on disk by this process: once there, they stay (the folder
+is this version's own), so a process that runs many small experiments walks the folder once."""
+
+
 def kernels_cached(kernels: tuple[str, ...] = EVERY_RUN_KERNELS) -> bool:
     """Whether this version's ``kernels`` (a run's by default) are on disk; a command without them
     compiles them first, for up to a minute, with nothing else to show for it."""
     folder = numba.config.CACHE_DIR  # type: ignore[attr-defined]  # set at import by numba
     if not folder:  # numba's default place, beside the sources: not ours to judge
         return True
-    return all(any(Path(folder).rglob(f"{kernel}-*.nbi")) for kernel in kernels)
+    for kernel in kernels:
+        if (folder, kernel) not in _FOUND:
+            if not any(Path(folder).rglob(f"{kernel}-*.nbi")):
+                return False
+            _FOUND.add((folder, kernel))
+    return True

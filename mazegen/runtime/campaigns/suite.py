@@ -29,7 +29,8 @@ from mazegen.fileio import write_atomic
 from mazegen.runtime.documents.best import row_document
 from mazegen.runtime.documents.scenario import dumps
 from mazegen.runtime.engine import operators as ops
-from mazegen.runtime.engine.evolution import GenerationStats, generation_stats, make_children
+from mazegen.runtime.engine.breeding import make_children
+from mazegen.runtime.engine.evolution import GenerationStats, generation_stats
 from mazegen.runtime.engine.population import PLACEMENT_GENES
 from mazegen.runtime.engine.problem import Evaluation, Problem
 from mazegen.runtime.navigation.measures import survey_of

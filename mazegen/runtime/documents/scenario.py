@@ -19,10 +19,8 @@ import numpy as np
 from mazegen.errors import MazeError
 from mazegen.runtime.documents.scenario_rules import check_document, read_json
 from mazegen.runtime.engine.population import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
-from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.geometry.elements import ElementTable, world_vertices
-from mazegen.runtime.navigation.measures import survey_of
-from mazegen.runtime.navigation.paths import path_of
+from mazegen.runtime.navigation.measures import corner_paths_of, survey_of
 from mazegen.spec import Spec
 
 FORMAT = "mazegen-scenario"
@@ -82,10 +80,10 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
 def robot_path(population: Population, index: int) -> list[list[float]] | None:
     """The corners of individual ``index``'s path from start to goal, or None when it has none.
 
-    The path is the engine's own (:func:`~mazegen.runtime.navigation.paths.path_of` on the
+    The path is the engine's own (:func:`~mazegen.runtime.navigation.paths.paths_of` on the
     arena's grid), rounded to :data:`DIGITS` decimals, without repeated corners.
     """
-    corners = path_of(population, grid_of(population.arena), index)
+    corners = corner_paths_of(population)[index]
     if corners is None:
         return None
     points = np.round(corners, DIGITS).tolist()

@@ -11,9 +11,10 @@ from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
     from mazegen.runtime.engine.bnf import Grammar, parse_bnf, read_bnf
+    from mazegen.runtime.engine.breeding import breed
     from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
     from mazegen.runtime.engine.compiled_grammar import CompiledGrammar, compile_grammar
-    from mazegen.runtime.engine.evolution import GenerationStats, RunResult, breed, evolve
+    from mazegen.runtime.engine.evolution import GenerationStats, RunResult, evolve
     from mazegen.runtime.engine.mapping import PopulationMap, map_genome, map_population, phenotype
     from mazegen.runtime.engine.population import Population, Ranges, decode
     from mazegen.runtime.engine.problem import Evaluation, Problem, Workspace
@@ -48,7 +49,8 @@ __getattr__ = lazy_names(
         "bnf": ["Grammar", "parse_bnf", "read_bnf"],
         "cache": ["EvaluationCache", "genome_hashes"],
         "compiled_grammar": ["CompiledGrammar", "compile_grammar"],
-        "evolution": ["GenerationStats", "RunResult", "breed", "evolve"],
+        "breeding": ["breed"],
+        "evolution": ["GenerationStats", "RunResult", "evolve"],
         "mapping": ["PopulationMap", "map_genome", "map_population", "phenotype"],
         "population": ["Population", "Ranges", "decode"],
         "problem": ["Evaluation", "Problem", "Workspace"],

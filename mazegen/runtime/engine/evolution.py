@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 
 from mazegen.runtime.engine import operators as ops
-from mazegen.runtime.engine import used_operators as uo
+from mazegen.runtime.engine.breeding import breed
 from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine.problem import Problem, Workspace
 from mazegen.runtime.engine.threads import threads_for
@@ -110,95 +110,6 @@ def evaluate_cached(
     usage.spread(lookup.first)
     cache.remember(lookup, fitness, usage)
     return CachedEvaluation(fitness, usage, int(lookup.todo.size), lookup.distinct)
-
-
-def breed(
-    rng: np.random.Generator,
-    codons: np.ndarray,
-    genes: np.ndarray,
-    fitness: np.ndarray,
-    settings: Evolution,
-    out: tuple[np.ndarray, np.ndarray],
-    usage: Usage | None = None,
-    map_usage: Callable[[np.ndarray], Usage] | None = None,
-) -> None:
-    """Write the next generation into ``out``: elites unchanged, then selected, crossed and mutated children.
-
-    Args:
-        rng: The run's random generator.
-        codons: This generation's structure codons.
-        genes: This generation's placement genes.
-        fitness: This generation's fitness.
-        settings: Selection, crossover and mutation settings.
-        out: Codon and gene arrays shaped like ``codons`` and ``genes``, overwritten.
-        usage: The :class:`Usage` of each row of ``codons`` (from their evaluation), which the
-            crossovers within the used codons read; without it, ``map_usage`` maps the parents.
-        map_usage: The :class:`Usage` of any structure codons (their mapping): the mutation within
-            the used codons maps the crossed children with it.
-    """
-    out_codons, out_genes = out
-    elites = ops.ranking(fitness, settings.elitism)
-    count = fitness.shape[0] - elites.size
-    if settings.selection == "tournament":
-        parents = ops.tournament_parents(rng, fitness, settings.tournament, count)
-    else:
-        parents = ops.truncation_parents(rng, fitness, settings.truncation, count)
-    out_codons[: elites.size] = codons[elites]
-    out_genes[: elites.size] = genes[elites]
-    children = (out_codons[elites.size :], out_genes[elites.size :])
-    make_children(rng, codons, genes, parents, settings, children, usage, map_usage)
-
-
-def make_children(
-    rng: np.random.Generator,
-    codons: np.ndarray,
-    genes: np.ndarray,
-    parents: np.ndarray,
-    settings: Evolution,
-    out: tuple[np.ndarray, np.ndarray],
-    usage: Usage | None = None,
-    map_usage: Callable[[np.ndarray], Usage] | None = None,
-) -> None:
-    """Write the children of ``parents`` (rows of ``codons`` and ``genes``) into ``out``, one row per
-    parent: pairs crossed, then mutated, by the operators ``settings`` name.
-
-    Args:
-        usage, map_usage: As in :func:`breed`.
-    """
-    length, slots, count = codons.shape[1], genes.shape[1], parents.shape[0]
-    within_used = settings.crossover_operator != "onepoint within genome"
-    mutation_within = settings.mutation_operator == "within used"
-    if map_usage is None and ((within_used and usage is None) or mutation_within):
-        raise ValueError("operators within the used codons need the usage of the genomes")
-    if within_used:
-        if usage is None:
-            assert map_usage is not None
-            rows = np.unique(parents)  # parents repeat: map each once
-            usage = Usage.empty(codons.shape[0], slots)
-            usage.put(rows, map_usage(codons[rows]), np.arange(rows.size))
-        variable = settings.crossover_operator == "variable within used"
-        cuts = uo.cut_draws(rng, used=usage.codons[parents], rate=settings.crossover, variable=variable)
-        uo.splice_children(codons, genes, parents, cuts, usage, out)
-    else:
-        crossover = ops.crossover_draws(rng, count, length, slots, settings.crossover)
-    if mutation_within:
-        assert map_usage is not None
-        if not within_used:
-            ops.cross(codons, genes, parents, crossover, *out)
-        child_usage = map_usage(out[0])  # PonyGE2 maps a crossed child before it mutates it
-        mutation = uo.used_mutation_draws(
-            rng,
-            usage=child_usage,
-            length=length,
-            slots=slots,
-            rate=settings.mutation,
-            codon_max=settings.codon_max,
-        )
-    else:  # drawn before MazeGen's first crossover is applied, as they always were
-        mutation = ops.mutation_draws(rng, count, length, slots, settings.mutation, settings.codon_max)
-        if not within_used:
-            ops.cross(codons, genes, parents, crossover, *out)
-    ops.mutate(mutation, *out)
 
 
 def generation_stats(

@@ -4,6 +4,10 @@ Genomes are two chromosomes: structure codons ``int32[N, L]`` and placement gene
 ``uint16[N, K, 5]``. Random choices are drawn from ``rng`` first, as plain arrays;
 :func:`cross` then applies them in one parallel pass that writes straight into
 the next generation's arrays, so breeding a population of 50,000 copies each genome once.
+
+Each draw is a compiled function of the run's ``numpy.random.Generator`` (numba draws from it
+exactly as NumPy does), so that :mod:`~mazegen.runtime.engine.breeding` makes a generation's
+draws in one compiled call; the functions here are the operators one at a time.
 """
 
 from __future__ import annotations
@@ -55,7 +59,13 @@ def truncation_parents(
 ) -> np.ndarray:
     """Parents drawn uniformly from the best ``fraction`` of the population (the paper's selection)."""
     keep = max(1, int(np.ceil(fraction * fitness.shape[0])))
-    return ranking(fitness, keep)[rng.integers(0, keep, size=count)]
+    return draw_from_pool(rng, ranking(fitness, keep), count)
+
+
+@njit(cache=True)
+def draw_from_pool(rng, pool, count):  # pragma: no cover - compiled
+    """``count`` rows drawn uniformly, with replacement, from ``pool``."""
+    return pool[rng.integers(0, pool.shape[0], size=count)]
 
 
 def tournament_parents(rng: np.random.Generator, fitness: np.ndarray, size: int, count: int) -> np.ndarray:
@@ -63,8 +73,14 @@ def tournament_parents(rng: np.random.Generator, fitness: np.ndarray, size: int,
 
     The fittest entrant wins; among equal fitness the lowest index, as in :func:`ranking`.
     """
-    entrants = rng.integers(0, fitness.shape[0], size=(count, size))
-    return _tournament_winners(fitness, entrants)
+    return draw_tournaments(rng, fitness, size, count)
+
+
+@njit(cache=True)
+def draw_tournaments(rng, fitness, size, count):  # pragma: no cover - compiled
+    """The compiled :func:`tournament_parents`."""
+    entrants = rng.integers(0, fitness.shape[0], size=count * size)
+    return _tournament_winners(fitness, entrants.reshape(count, size))
 
 
 @njit(cache=True)
@@ -97,12 +113,15 @@ def crossover_draws(
 
     Each pair crosses with probability ``rate``, at one cut per chromosome.
     """
-    pairs = children // 2
-    return CrossoverDraws(
-        crossing=rng.random(pairs) < rate,
-        codon_cut=rng.integers(1, max(length, 2), size=pairs),
-        gene_cut=rng.integers(0, slots + 1, size=pairs),
-    )
+    return CrossoverDraws(*draw_crossover(rng, children // 2, length, slots, rate))
+
+
+@njit(cache=True)
+def draw_crossover(rng, pairs, length, slots, rate):  # pragma: no cover - compiled
+    """The compiled :func:`crossover_draws` of ``pairs`` pairs: crossing, codon cut, gene cut."""
+    crossing = rng.random(pairs) < rate
+    codon_cut = rng.integers(1, max(length, 2), size=pairs)
+    return crossing, codon_cut, rng.integers(0, slots + 1, size=pairs)
 
 
 def hit_positions(rng: np.random.Generator, total: int, rate: float) -> np.ndarray:
@@ -112,16 +131,34 @@ def hit_positions(rng: np.random.Generator, total: int, rate: float) -> np.ndarr
     is ``1 + floor(E / -log(1 - rate))`` with ``E`` standard exponential, which is exactly
     geometric and about twice as fast to draw as ``Generator.geometric``.
     """
+    return draw_hits(rng, total, rate, gap_scale(rate))
+
+
+def gap_scale(rate: float) -> float:
+    """``-1 / log(1 - rate)``: what :func:`draw_hits` scales exponentials by (NumPy's ``log1p``, so
+    that every caller scales alike)."""
+    return float(-1.0 / np.log1p(-rate)) if 0 < rate < 1 else 0.0
+
+
+@njit(cache=True)
+def draw_hits(rng, total, rate, scale):  # pragma: no cover - compiled
+    """The compiled :func:`hit_positions`; ``scale`` from :func:`gap_scale`.
+
+    Exponentials are drawn in batches of a fixed size (about 1.1 times the hits expected),
+    so the draws, and what the generator is left at, depend on ``total`` and ``rate`` alone.
+    """
     if rate <= 0 or total == 0:
         return np.empty(0, dtype=np.int64)
     if rate >= 1:
-        return np.arange(total, dtype=np.int64)
+        return np.arange(total)
     batch = int(total * rate * 1.1) + 16
-    scale = -1.0 / np.log1p(-rate)
-    hits = np.empty(0, dtype=np.int64)
+    hits = np.empty(batch, dtype=np.int64)
     found, position = 0, -1
     while position < total:
-        hits = np.concatenate([hits[:found], np.empty(batch, dtype=np.int64)])
+        if hits.shape[0] < found + batch:
+            grown = np.empty(found + batch, dtype=np.int64)
+            grown[:found] = hits[:found]
+            hits = grown
         found, position = _add_gaps(rng.standard_exponential(batch), scale, total, hits, found, position)
     return hits[:found]
 
@@ -156,12 +193,43 @@ def mutation_draws(
     New values are uniform in ``0..codon_max`` for codons and ``0..GENE_MAX`` for genes,
     drawn in the narrowest integer type that holds them (narrow draws are several times faster).
     """
-    codon_hits = hit_positions(rng, children * length, rate)
-    codon_type = np.min_scalar_type(codon_max)
-    codon_values = rng.integers(0, codon_max, size=(codon_hits.shape[0],), dtype=codon_type, endpoint=True)
-    gene_hits = hit_positions(rng, children * slots * PLACEMENT_GENES, rate)
-    gene_values = rng.integers(0, GENE_MAX, size=(gene_hits.shape[0],), dtype=np.uint16, endpoint=True)
-    return MutationDraws(codon_hits, codon_values, gene_hits, gene_values)
+    no_usage = np.empty(0, dtype=np.int64)
+    return MutationDraws(
+        *draw_mutation(rng, children, length, slots, rate, gap_scale(rate), codon_max, no_usage, no_usage)
+    )
+
+
+@njit(cache=True)
+def draw_mutation(
+    rng, children, length, slots, rate, scale, codon_max, used_codons, used_rows
+):  # pragma: no cover - compiled
+    """The compiled :func:`mutation_draws`, or, given each child's used codons and element rows
+    (``used_codons``, ``used_rows``; empty for whole genomes), the mutation within them.
+
+    Hits are drawn over whole rows and those past the used part dropped before the values are
+    drawn: each used position is still hit with probability ``rate``, independently.
+    """
+    codon_hits = draw_hits(rng, children * length, rate, scale)
+    if used_codons.size:
+        codon_hits = codon_hits[codon_hits % length < used_codons[codon_hits // length]]
+    codon_values = _codon_values(rng, codon_max, codon_hits.shape[0])
+    row = slots * PLACEMENT_GENES
+    gene_hits = draw_hits(rng, children * row, rate, scale)
+    if used_rows.size:
+        gene_hits = gene_hits[gene_hits % row // PLACEMENT_GENES < used_rows[gene_hits // row]]
+    gene_values = rng.integers(0, GENE_MAX, size=gene_hits.shape[0], dtype=np.uint16, endpoint=True)
+    return codon_hits, codon_values, gene_hits, gene_values
+
+
+@njit(cache=True)
+def _codon_values(rng, codon_max, count):  # pragma: no cover - compiled
+    """``count`` codons uniform in ``0..codon_max``, drawn in the narrowest unsigned type that holds
+    ``codon_max`` (NumPy's ``min_scalar_type``; narrow draws are several times faster)."""
+    if codon_max <= 0xFF:
+        return rng.integers(0, codon_max, size=count, dtype=np.uint8, endpoint=True).astype(np.int32)
+    if codon_max <= 0xFFFF:
+        return rng.integers(0, codon_max, size=count, dtype=np.uint16, endpoint=True).astype(np.int32)
+    return rng.integers(0, codon_max, size=count, dtype=np.uint32, endpoint=True).astype(np.int32)
 
 
 def cross(
@@ -188,7 +256,7 @@ def cross(
     children, row = parents.shape[0], genes.shape[1] * PLACEMENT_GENES
     flat_genes = genes.reshape(genes.shape[0], row)
     flat_out = out_genes.reshape(children, row)
-    _cross_pairs(
+    cross_pairs(
         codons, flat_genes, parents, crossover.crossing, crossover.codon_cut,
         crossover.gene_cut * PLACEMENT_GENES, out_codons, flat_out,
     )  # fmt: skip
@@ -196,12 +264,24 @@ def cross(
 
 def mutate(mutation: MutationDraws, codons: np.ndarray, genes: np.ndarray) -> None:
     """Write the new values of ``mutation`` into C-contiguous ``codons`` and ``genes``, in place."""
-    codons.reshape(-1)[mutation.codon_hits] = mutation.codon_values
-    genes.reshape(-1)[mutation.gene_hits] = mutation.gene_values
+    apply_mutation(
+        mutation.codon_hits, mutation.codon_values, mutation.gene_hits, mutation.gene_values,
+        codons.reshape(codons.shape[0], -1), genes.reshape(genes.shape[0], -1),
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def apply_mutation(codon_hits, codon_values, gene_hits, gene_values, codons, genes):  # pragma: no cover
+    """The compiled :func:`mutate`: hits are flat positions in the rows of ``codons`` and ``genes``."""
+    length, row = codons.shape[1], genes.shape[1]
+    for j in range(codon_hits.shape[0]):
+        codons[codon_hits[j] // length, codon_hits[j] % length] = codon_values[j]
+    for j in range(gene_hits.shape[0]):
+        genes[gene_hits[j] // row, gene_hits[j] % row] = gene_values[j]
 
 
 @njit(cache=True, parallel=True)
-def _cross_pairs(
+def cross_pairs(
     codons, genes, parents, crossing, codon_cut, gene_cut, out_codons, out_genes
 ):  # pragma: no cover - compiled
     children = parents.shape[0]

@@ -27,10 +27,11 @@ from dataclasses import dataclass
 
 import numpy as np
 from numba import njit, prange
+from numba.np.random.random_methods import buffered_bounded_lemire_uint32 as lemire_uint32
 
 from mazegen.runtime.engine.mapping import PopulationMap
-from mazegen.runtime.engine.operators import MutationDraws, hit_positions
-from mazegen.runtime.engine.population import GENE_MAX, PLACEMENT_GENES
+from mazegen.runtime.engine.operators import MutationDraws, draw_mutation, gap_scale
+from mazegen.runtime.engine.population import PLACEMENT_GENES
 
 
 @dataclass(frozen=True)
@@ -139,15 +140,35 @@ def cut_draws(rng: np.random.Generator, *, used: np.ndarray, rate: float, variab
     Args:
         used: The codons each parent used (:attr:`Usage.codons`), in the order they pair.
     """
+    return CutDraws(*draw_cuts(rng, used, rate, variable))
+
+
+@njit(cache=True)
+def draw_cuts(rng, used, rate, variable):  # pragma: no cover - compiled
+    """The compiled :func:`cut_draws`: crossing, first cut, second cut."""
     pairs = used.shape[0] // 2
-    used = np.maximum(used[: 2 * pairs], 1)
-    first_used, second_used = used[0::2], used[1::2]
     crossing = rng.random(pairs) < rate
-    if variable:
-        first = rng.integers(1, first_used + 1)
-        return CutDraws(crossing, first, rng.integers(1, second_used + 1))
-    cut = rng.integers(1, np.minimum(first_used, second_used) + 1)
-    return CutDraws(crossing, cut, cut)
+    first = np.empty(pairs, dtype=np.int64)
+    if not variable:
+        for p in range(pairs):
+            first[p] = _one_to(rng, min(used[2 * p], used[2 * p + 1]))
+        return crossing, first, first
+    second = np.empty(pairs, dtype=np.int64)
+    for p in range(pairs):
+        first[p] = _one_to(rng, used[2 * p])
+    for p in range(pairs):
+        second[p] = _one_to(rng, used[2 * p + 1])
+    return crossing, first, second
+
+
+@njit(cache=True, inline="always")
+def _one_to(rng, high):  # pragma: no cover - compiled
+    """An integer uniform in ``1..max(high, 1)``, drawn as NumPy's ``integers(1, high + 1)`` draws it:
+    numba's own port of NumPy's Lemire draw, called directly because numba's ``integers`` allocates
+    an array for each value (50 ns). The port is numba's internals: the tests hold it to NumPy."""
+    if high <= 1:
+        return np.int64(1)  # a range of one value: NumPy draws nothing
+    return np.int64(1 + lemire_uint32(rng.bit_generator, np.uint32(high - 1)))
 
 
 def splice_children(
@@ -166,7 +187,7 @@ def splice_children(
     """
     out_codons, out_genes = out
     children, row = parents.shape[0], genes.shape[1] * PLACEMENT_GENES
-    _splice_pairs(
+    splice_pairs(
         codons,
         genes.reshape(genes.shape[0], row),
         parents,
@@ -180,7 +201,7 @@ def splice_children(
 
 
 @njit(cache=True, parallel=True)
-def _splice_pairs(
+def splice_pairs(
     codons, genes, parents, crossing, first_cut, second_cut, element_codons, out_codons, out_genes
 ):  # pragma: no cover - compiled
     children, length, slots = parents.shape[0], codons.shape[1], element_codons.shape[1]
@@ -231,12 +252,7 @@ def used_mutation_draws(
     is still hit with probability ``rate``, independently.
     """
     children = usage.codons.shape[0]
-    codon_hits = hit_positions(rng, children * length, rate)
-    codon_hits = codon_hits[codon_hits % length < usage.codons[codon_hits // length]]
-    codon_type = np.min_scalar_type(codon_max)
-    codon_values = rng.integers(0, codon_max, size=codon_hits.shape[0], dtype=codon_type, endpoint=True)
-    row = slots * PLACEMENT_GENES
-    gene_hits = hit_positions(rng, children * row, rate)
-    gene_hits = gene_hits[gene_hits % row // PLACEMENT_GENES < usage.rows[gene_hits // row]]
-    gene_values = rng.integers(0, GENE_MAX, size=gene_hits.shape[0], dtype=np.uint16, endpoint=True)
-    return MutationDraws(codon_hits, codon_values, gene_hits, gene_values)
+    draws = draw_mutation(
+        rng, children, length, slots, rate, gap_scale(rate), codon_max, usage.codons, usage.rows
+    )
+    return MutationDraws(*draws)

@@ -9,11 +9,13 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TypeVar, cast
 
+import numpy as np
+
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.connectivity import Reach, reach
 from mazegen.runtime.navigation.difficulty import Survey, survey
-from mazegen.runtime.navigation.paths import Navigation, navigate
+from mazegen.runtime.navigation.paths import Navigation, navigate, paths_of
 
 Found = TypeVar("Found")
 
@@ -49,3 +51,8 @@ def reach_of(pop: Population) -> Reach:
 def survey_of(pop: Population) -> Survey:
     """Navigation plus the difficulty metrics of every individual."""
     return _once(pop, "survey", lambda: survey(pop))
+
+
+def corner_paths_of(pop: Population) -> list[np.ndarray | None]:
+    """The corners of every individual's path, start to goal (None: no path), on the arena's grid."""
+    return _once(pop, "paths", lambda: paths_of(pop, grid_of(pop.arena)))

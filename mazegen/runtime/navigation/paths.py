@@ -115,13 +115,38 @@ def free_cells(pop: Population, grid: Grid, index: int) -> np.ndarray:
 
 def path_of(pop: Population, grid: Grid, index: int) -> np.ndarray | None:
     """``float64[n, 2]``: the corners of individual ``index``'s path, start to goal, or None if unsolvable."""
-    if not pop.valid[index]:
-        return None
-    shapes, ids, n_el, params, _ = kernel_args(pop)
-    args = grid_args(grid)
-    scratch = route_scratch(shapes, ids.shape[1], args)
-    _, found, _, turns = route(shapes, ids[index], n_el[index], params[index], args, scratch)
-    return scratch[5][:turns].copy() if found else None
+    return paths_of(pop, grid, np.array([index]))[0]
+
+
+def paths_of(pop: Population, grid: Grid, rows: np.ndarray | None = None) -> list[np.ndarray | None]:
+    """:func:`path_of` of each individual of ``rows`` (all by default), searched with one scratch."""
+    rows = np.arange(pop.size) if rows is None else np.asarray(rows, dtype=np.int64)
+    shapes, ids, n_el, params, valid = kernel_args(pop)
+    corners, ends = _corner_paths(shapes, ids, n_el, params, valid, grid_args(grid), rows)
+    return [
+        corners[ends[k] : ends[k + 1]].copy() if ends[k + 1] > ends[k] else None for k in range(rows.size)
+    ]
+
+
+@njit(cache=True)
+def _corner_paths(shapes, ids, n_el, params, valid, grid, rows):  # pragma: no cover - compiled
+    """The corners of the paths of ``rows`` one after another, and where each ends (an empty
+    stretch: no path)."""
+    scratch = route_scratch(shapes, ids.shape[1], grid)
+    ends = np.zeros(rows.shape[0] + 1, dtype=np.int64)
+    corners = np.empty((2 * rows.shape[0] + 2, 2))  # room for straight paths; bent ones grow it
+    for k in range(rows.shape[0]):
+        i, turns = rows[k], 0
+        if valid[i]:
+            _, found, _, turns = route(shapes, ids[i], n_el[i], params[i], grid, scratch)
+            turns = turns if found else 0
+        if ends[k] + turns > corners.shape[0]:
+            grown = np.empty((2 * (ends[k] + turns), 2))
+            grown[: ends[k]] = corners[: ends[k]]
+            corners = grown
+        corners[ends[k] : ends[k] + turns] = scratch[5][:turns]
+        ends[k + 1] = ends[k] + turns
+    return corners, ends
 
 
 @njit(cache=True, parallel=True)

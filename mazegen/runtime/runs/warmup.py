@@ -31,7 +31,9 @@ from mazegen.runtime.engine.cache import genome_hashes
 from mazegen.runtime.navigation.connectivity import reach
 from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.difficulty import survey
-from mazegen.runtime.engine.evolution import breed, evolve
+from mazegen.runtime.navigation.paths import paths_of
+from mazegen.runtime.engine.breeding import breed
+from mazegen.runtime.engine.evolution import evolve
 from mazegen.runtime.runs.executors import die_with_launcher, process_context
 from mazegen.runtime.geometry.elements import ElementTable, world_vertices
 from mazegen.runtime.engine.operators import random_codons, random_genes
@@ -120,8 +122,8 @@ def _compile_path_kernels_or_not(spec: Spec) -> None:
 
 
 def compile_path_kernels(spec: Spec) -> None:
-    """Compile solvability, then the path search and difficulty metrics, then the simulator when the spec
-    drives a robot, on two empty floors of ``spec``."""
+    """Compile solvability, then the path search and difficulty metrics (and the paths' corners), then
+    the simulator when the spec drives a robot, on two empty floors of ``spec``."""
     types = spec.scenario_elements
     slots = spec.scenario.max_elements
     params = np.zeros((2, slots, PLACEMENT_GENES))
@@ -136,6 +138,7 @@ def compile_path_kernels(spec: Spec) -> None:
     if not spec.reads_difficulty:  # else the survey answers solvability too
         reach(floors, grid_of(spec.arena))  # first: the evolution in the other process needs it soonest
     survey(floors)
+    paths_of(floors, grid_of(spec.arena))  # the corners every scenario file records
     drive_once(spec, floors)
 
 

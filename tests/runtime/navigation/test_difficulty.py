@@ -23,7 +23,7 @@ from mazegen.runtime.navigation.difficulty import (
     step_arrays,
     survey,
 )
-from mazegen.runtime.navigation.paths import free_cells, navigate, path_of
+from mazegen.runtime.navigation.paths import free_cells, navigate, path_of, paths_of
 from mazegen.spec import DIFFICULTY_LEVELS, Arena
 from tests.runtime.floors import ARENA, NAMES, ZIGZAG, pack, population, random_floors
 
@@ -109,6 +109,24 @@ def test_paths_stay_on_free_cells_and_path_cells_follow_them():
         bent += len(corners) > 2
     assert bent >= 3
     assert path_of(pop, grid, int(np.flatnonzero(~nav.solvable)[0])) is None
+
+
+def test_paths_searched_together_equal_each_searched_alone():
+    """One scratch serves every floor (and its corners grow past their first room)."""
+    arena = Arena("hall", 800, 500, "cm", (40, 40), (760, 460), 25, 10)
+    grid = Grid.from_arena(arena)
+    pop = population(arena, random_floors(np.random.default_rng(5), 25, arena))
+    everyone = paths_of(pop, grid)
+    bent = [i for i, corners in enumerate(everyone) if corners is not None and len(corners) > 2]
+    rows = np.array([3, 0, 3, 24, 7, *bent, *bent])  # bent paths outgrow the room straight ones need
+    together = paths_of(pop, grid, rows)
+    alone = [path_of(pop, grid, int(i)) for i in rows]
+    assert [c is None for c in together] == [c is None for c in alone]
+    assert len(bent) >= 3 and any(c is None for c in everyone)
+    assert all(a is None or np.array_equal(a, b) for a, b in zip(alone, together))
+    in_order = paths_of(pop, grid, np.arange(25))
+    assert all(a is None or np.array_equal(a, b) for a, b in zip(everyone, in_order))
+    assert paths_of(pop, grid, np.empty(0, np.int64)) == []
 
 
 def test_straight_path_cells_on_an_open_floor():
