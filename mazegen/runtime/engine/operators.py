@@ -58,8 +58,12 @@ def truncation_parents(
     rng: np.random.Generator, fitness: np.ndarray, fraction: float, count: int
 ) -> np.ndarray:
     """Parents drawn uniformly from the best ``fraction`` of the population (the paper's selection)."""
-    keep = max(1, int(np.ceil(fraction * fitness.shape[0])))
-    return draw_from_pool(rng, ranking(fitness, keep), count)
+    return draw_from_pool(rng, truncation_pool(fitness, fraction), count)
+
+
+def truncation_pool(fitness: np.ndarray, fraction: float) -> np.ndarray:
+    """The best ``fraction`` of the population (at least one), best first: truncation's parents."""
+    return ranking(fitness, max(1, int(np.ceil(fraction * fitness.shape[0]))))
 
 
 @njit(cache=True)
@@ -257,8 +261,8 @@ def cross(
     flat_genes = genes.reshape(genes.shape[0], row)
     flat_out = out_genes.reshape(children, row)
     cross_pairs(
-        codons, flat_genes, parents, crossover.crossing, crossover.codon_cut,
-        crossover.gene_cut * PLACEMENT_GENES, out_codons, flat_out,
+        codons, flat_genes, parents, crossover.crossing, crossover.codon_cut, crossover.gene_cut,
+        out_codons, flat_out,
     )  # fmt: skip
 
 
@@ -284,11 +288,13 @@ def apply_mutation(codon_hits, codon_values, gene_hits, gene_values, codons, gen
 def cross_pairs(
     codons, genes, parents, crossing, codon_cut, gene_cut, out_codons, out_genes
 ):  # pragma: no cover - compiled
+    """The compiled :func:`cross`: ``genes`` one flat row per genome, ``gene_cut`` in placement rows."""
     children = parents.shape[0]
     for p in prange(children // 2):
         first, second = parents[2 * p], parents[2 * p + 1]
+        gene_cut_p = gene_cut[p] * PLACEMENT_GENES if crossing[p] else genes.shape[1]
         _copy_crossed(codons, first, second, codon_cut[p] if crossing[p] else codons.shape[1], out_codons, p)
-        _copy_crossed(genes, first, second, gene_cut[p] if crossing[p] else genes.shape[1], out_genes, p)
+        _copy_crossed(genes, first, second, gene_cut_p, out_genes, p)
     if children % 2:
         out_codons[children - 1] = codons[parents[children - 1]]
         out_genes[children - 1] = genes[parents[children - 1]]
