@@ -103,7 +103,7 @@ def evaluate_cached(
     cache.recall_usage(lookup, usage)
     for start in range(0, lookup.todo.size, EVALUATION_CHUNK):
         rows = lookup.todo[start : start + EVALUATION_CHUNK]
-        evaluation = problem.evaluate(codons[rows], genes[rows], workspace, searching=True)
+        evaluation = problem.evaluate(*_rows_of(codons, genes, rows), workspace, searching=True)
         fitness[rows] = evaluation.fitness
         usage.put_mapped(rows, evaluation.mapped, codons.shape[1])
     fitness = fitness[lookup.first]
@@ -112,15 +112,29 @@ def evaluate_cached(
     return CachedEvaluation(fitness, usage, int(lookup.todo.size), lookup.distinct)
 
 
+def _rows_of(codons: np.ndarray, genes: np.ndarray, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows ``rows`` (ascending) of both chromosomes: the arrays themselves when they are every row."""
+    if rows.size == codons.shape[0]:
+        return codons, genes
+    return np.take(codons, rows, axis=0), np.take(genes, rows, axis=0)
+
+
+def _median(values: np.ndarray) -> float:
+    """``np.median`` of finite ``values``, without its checks and copies (a tenth of its time at 1,000)."""
+    middle = values.size // 2
+    if values.size % 2:
+        return float(np.partition(values, middle)[middle])
+    low, high = np.partition(values, [middle - 1, middle])[middle - 1 : middle + 1]
+    return float((low + high) / 2)
+
+
 def generation_stats(
     generation: int, fitness: np.ndarray, evaluations: int, unique: int, seconds: float
 ) -> GenerationStats:
     """Statistics of one generation's fitness (valid individuals only) and evaluation counts."""
     valid = fitness[np.isfinite(fitness)]
     best, mean, median = (
-        (float(valid.max()), float(valid.mean()), float(np.median(valid)))
-        if valid.size
-        else (float("nan"),) * 3
+        (float(valid.max()), float(valid.mean()), _median(valid)) if valid.size else (float("nan"),) * 3
     )
     return GenerationStats(
         generation,

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mazegen
-from mazegen.runtime.engine.evolution import evolve
+from mazegen.runtime.engine.evolution import evolve, generation_stats
 from tests.conftest import EXAMPLES
 from tests.runtime.rundirs import file_digests
 
@@ -33,6 +33,19 @@ def test_final_fitness_matches_a_fresh_evaluation(factory):
     result = evolve(factory, settings, np.random.default_rng(2))
     fresh = factory.evaluate(result.codons, result.genes).fitness
     assert np.array_equal(fresh, result.fitness)
+
+
+@pytest.mark.parametrize("size", [1, 2, 7, 8, 1000, 1001])
+def test_generation_stats_equal_numpy_over_valid_individuals(size):
+    """Best, mean and median of the finite fitness values, as NumPy computes them (ties, odd and even
+    counts); invalid individuals are counted, not averaged."""
+    rng = np.random.default_rng(size)
+    fitness = rng.integers(0, 9, size + 3).astype(float) + rng.random(size + 3).round(1)
+    fitness[rng.permutation(size + 3)[:3]] = -np.inf
+    valid = fitness[np.isfinite(fitness)]
+    stats = generation_stats(4, fitness, evaluations=size, unique=size + 1, seconds=0.5)
+    assert (stats.best, stats.mean, stats.median) == (valid.max(), valid.mean(), np.median(valid))
+    assert (stats.invalid, stats.cache_hits) == (3, 3)
 
 
 def test_thread_count_does_not_change_results(factory):
