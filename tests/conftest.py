@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from contextlib import nullcontext
 from pathlib import Path
 
 import pytest
@@ -13,10 +14,14 @@ EXAMPLES = ROOT / "examples"
 @pytest.fixture(autouse=True)
 def _kernels_cached(monkeypatch):
     """Commands say nothing about compiling kernels, whatever the state of the cache, so that tests of
-    their output do not depend on which test ran first (the note has tests of its own)."""
+    their output do not depend on which test ran first (the notes have tests of their own)."""
     import mazegen.runtime
+    import mazegen.runtime.compiling
 
     monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): True)
+    monkeypatch.setattr(
+        mazegen.runtime.compiling, "noting_compiles", lambda say, work, seconds: nullcontext()
+    )
 
 
 @pytest.fixture

@@ -30,10 +30,6 @@ if TYPE_CHECKING:
 ENTRY_POINTS = "mazegen.controllers"
 """The entry point group under which installed packages register controllers."""
 
-DRIVE_KERNELS = ("paths._navigate_all", "_loop.run_all")
-"""The kernels every drive calls (named by file, as in :data:`mazegen.runtime.SCORE_KERNELS`): the
-floors' paths, and the episode loop, which compiles with every bundled controller."""
-
 
 def controller_names(given: Sequence[str]) -> list[str]:
     """The controllers of ``--controller`` options (each one name or a comma-separated list), in
@@ -99,22 +95,22 @@ def drive(
     if not controllers:
         raise MazeError("give at least one --controller NAME")
     names = controller_names(controllers)
+    from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
     from mazegen.runtime.documents.driving import Floors, summaries
     from mazegen.runtime.exporters.batch import scenario_files
-    from mazegen.runtime.runs.progress import QuietReporter, note_first_compile
 
     resolved = _load_spec(spec)
     files = scenario_files(source)
-    note_first_compile(QuietReporter(), kernels=DRIVE_KERNELS)  # on standard error, as every note
     loaded, failed = _load_floors(files, resolved)
     drives: list[list[Drive]] = []
     floors_of: list[Floor] = []
-    for group_spec, floors in _by_spec(loaded).items():
-        batch = Floors.of(group_spec, [(floor.where, floor.document) for floor in floors])
-        for file in batch.without_path:
-            click.echo(no_path_line(file, batch), err=True)
-        drives += batch.drive(names)
-        floors_of += floors
+    with noting_compiles(lambda note: click.echo(note, err=True), "drive", DRIVE_SECONDS):
+        for group_spec, floors in _by_spec(loaded).items():
+            batch = Floors.of(group_spec, [(floor.where, floor.document) for floor in floors])
+            for file in batch.without_path:
+                click.echo(no_path_line(file, batch), err=True)
+            drives += batch.drive(names)
+            floors_of += floors
     if as_json:
         for row in drives:
             for result in row:

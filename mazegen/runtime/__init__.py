@@ -65,23 +65,23 @@ EVERY_RUN_KERNELS = ("mapping._map_all", "difficulty._survey_all")
 both was never filled, or its filling was cut short."""
 
 
-SCORE_KERNELS = ("difficulty._survey_all",)
-"""The kernel every ``mazegen score`` calls, and the longest to compile: the scenario metrics'
-(score maps no genome, so a run's mapping kernel is no sign of a cache score can use)."""
+CONTROLLER_KERNELS = {
+    "straight": "_controllers.straight_command",
+    "purepursuit": "_controllers.purepursuit_command",
+    "dwa": "_dwa.dwa_command",
+    "vfh": "_vfh.vfh_command",
+}
+"""The kernel of each bundled controller: the episode loop compiles once per controller, with it."""
 
-
-DRIVE_KERNELS = {"bundled": ("_loop.run_all",), "policy": ("_policy._apply",)}
-"""The simulator's episode loops, by the kind of controller they drive: every generation of a spec
-with drive terms calls one (or both)."""
+POLICY_KERNEL = "_policy._apply"
+"""The kernel that steps the robots of a user's policy."""
 
 
 def run_kernels(spec: Spec) -> tuple[str, ...]:
-    """The kernels every run of ``spec`` calls: a run's, and the simulator's episode loop for each kind
-    of controller its drive terms name (a spec without drive terms loads none of the simulator)."""
-    from mazegen.controllers import BUNDLED
-
-    kinds = sorted({"bundled" if name in BUNDLED else "policy" for name in spec.drive_controllers})
-    return EVERY_RUN_KERNELS + tuple(kernel for kind in kinds for kernel in DRIVE_KERNELS[kind])
+    """The kernels every run of ``spec`` calls: a run's, and the simulator's for each controller its
+    drive terms name (a spec without drive terms loads none of the simulator)."""
+    drives = {CONTROLLER_KERNELS.get(name, POLICY_KERNEL) for name in spec.drive_controllers}
+    return EVERY_RUN_KERNELS + tuple(sorted(drives))
 
 
 _FOUND: set[tuple[str, str]] = set()

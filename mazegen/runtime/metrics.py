@@ -11,7 +11,7 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime import simulation
 from mazegen.runtime.engine.population import SX, SY, Population
@@ -40,10 +40,10 @@ def elements_over_size(pop: Population, limit: float) -> np.ndarray:
     return _count_over_size(pop.params, pop.n_elements, float(limit))
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def _count_over_size(params, n_elements, limit):  # pragma: no cover - compiled
     out = np.zeros(n_elements.shape[0])
-    for i in prange(n_elements.shape[0]):
+    for i in range(n_elements.shape[0]):
         for k in range(n_elements[i]):
             out[i] += max(params[i, k, SX], params[i, k, SY]) > limit
     return out
@@ -104,12 +104,13 @@ def type_entropy(pop: Population) -> np.ndarray:
     return _type_counts(pop.element_ids, pop.n_elements, pop.table.n_parts.shape[0])[1]
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def _type_counts(ids, n_elements, n_types):  # pragma: no cover - compiled
     distinct = np.zeros(ids.shape[0])
     entropy = np.zeros(ids.shape[0])
-    for i in prange(ids.shape[0]):
-        counts = np.zeros(n_types, np.int64)
+    counts = np.zeros(n_types, np.int64)
+    for i in range(ids.shape[0]):
+        counts[:] = 0
         n = n_elements[i]
         for k in range(n):
             counts[ids[i, k]] += 1

@@ -260,16 +260,24 @@ def test_score_refuses_an_unknown_controller_in_one_line(suite):
     assert result.exit_code == 2 and len(result.stderr.splitlines()) == 1 and "'nope'" in result.stderr
 
 
-def test_a_first_drive_says_it_compiles_and_names_kernels_a_drive_compiles(suite, monkeypatch):
-    import numba
+def test_a_drive_that_compiles_says_so_once_and_one_that_does_not_says_nothing(suite, monkeypatch):
+    from numba import njit
 
-    import mazegen.runtime
-    from mazegen.cli.drive import DRIVE_KERNELS
+    from mazegen.runtime.compiling import DRIVE_SECONDS, compile_note
+    from mazegen.runtime.documents.driving import Floors
 
-    asked = []
-    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): asked.append(kernels) or False)
-    result = invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")
-    assert result.exit_code == 0 and asked == [DRIVE_KERNELS]
-    assert result.stderr.splitlines()[0].startswith("compiling MazeGen's kernels")
-    folder = Path(numba.config.CACHE_DIR)  # the real drive above has filled it
-    assert all(any(folder.rglob(f"{kernel}-*.nbi")) for kernel in DRIVE_KERNELS)
+    monkeypatch.undo()  # the real note, not the tests' silence (conftest)
+    real_drive = Floors.drive
+
+    def drive_compiling(self, names):  # as a drive whose controller was never compiled would
+        njit(lambda x: x + 1)(1)
+        njit(lambda x: x + 2)(1)
+        return real_drive(self, names)
+
+    invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")  # compiles what is not cached
+    quiet = invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")
+    monkeypatch.setattr(Floors, "drive", drive_compiling)
+    noted = invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")
+    assert quiet.exit_code == 0 and noted.exit_code == 0 and quiet.stdout == noted.stdout
+    assert compile_note("drive", DRIVE_SECONDS) not in quiet.stderr
+    assert noted.stderr.count(compile_note("drive", DRIVE_SECONDS)) == 1

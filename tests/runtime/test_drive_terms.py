@@ -185,27 +185,29 @@ def test_a_run_scores_drive_terms_with_the_simulator(tmp_path):
 
 
 def test_a_run_of_a_driving_spec_waits_for_the_simulators_kernels(driving, tmp_path):
-    from mazegen.runtime import DRIVE_KERNELS, EVERY_RUN_KERNELS, run_kernels
+    from mazegen.runtime import CONTROLLER_KERNELS, EVERY_RUN_KERNELS, POLICY_KERNEL, run_kernels
 
-    assert run_kernels(driving.spec) == EVERY_RUN_KERNELS + DRIVE_KERNELS["bundled"]
+    named = {CONTROLLER_KERNELS[name] for name in driving.spec.drive_controllers}
+    assert run_kernels(driving.spec) == EVERY_RUN_KERNELS + tuple(sorted(named))
     plain = build_problem(DRIVE_SPEC + "robot { drive all }\nfitness { count }\n", tmp_path)
     assert run_kernels(plain.spec) == EVERY_RUN_KERNELS
     policy = dataclasses.replace(
         driving.spec, fitness=(FitnessTerm("drive", metric="fails", controllers=("my.pkg:policy",)),)
     )
-    assert run_kernels(policy) == EVERY_RUN_KERNELS + DRIVE_KERNELS["policy"]
+    assert run_kernels(policy) == (*EVERY_RUN_KERNELS, POLICY_KERNEL)
 
 
 def test_the_first_run_says_it_compiles_when_only_the_simulator_is_missing(driving, monkeypatch, capsys):
     import mazegen.runtime
     from mazegen.cli.launching import compile_first
+    from mazegen.runtime import EVERY_RUN_KERNELS
     from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE, QuietReporter
 
     asked: list[tuple[str, ...]] = []
 
     def cached(kernels=()):
         asked.append(kernels)
-        return not any(kernel.startswith("_loop.") for kernel in kernels)
+        return not any(kernel.startswith(("_controllers.", "_dwa.", "_vfh.")) for kernel in kernels)
 
     compiled = []
     monkeypatch.setattr(mazegen.runtime, "kernels_cached", cached)
@@ -213,7 +215,7 @@ def test_the_first_run_says_it_compiles_when_only_the_simulator_is_missing(drivi
         "mazegen.runtime.runs.warmup.compile_kernels", lambda problem: compiled.append(problem.spec.name)
     )
     compile_first(driving, "serial", QuietReporter())
-    assert "_loop.run_all" in asked[-1]
+    assert set(asked[-1]) > set(EVERY_RUN_KERNELS)
     assert compiled == [driving.spec.name]
     assert FIRST_COMPILE_NOTE in capsys.readouterr().err
 

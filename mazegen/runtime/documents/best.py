@@ -11,7 +11,7 @@ from mazegen.runtime.engine.evolution import RunResult
 from mazegen.runtime.engine.mapping import phenotype
 from mazegen.runtime.engine.operators import ranking
 from mazegen.runtime.engine.problem import Evaluation, Problem
-from mazegen.runtime.engine.threads import threads_for
+from mazegen.runtime.threads import threads_for
 
 
 def best_documents(

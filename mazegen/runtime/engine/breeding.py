@@ -22,16 +22,7 @@ from mazegen.runtime.engine.population import PLACEMENT_GENES
 from mazegen.runtime.engine.used_operators import Usage
 from mazegen.spec import Evolution
 
-WHOLE_GENOME, ONE_POINT, VARIABLE = 0, 1, 2
-"""Crossover kinds as the kernels take them."""
-
-_CROSSOVERS = {
-    "onepoint within genome": WHOLE_GENOME,
-    "onepoint within used": ONE_POINT,
-    "variable within used": VARIABLE,
-}
 _NO_ROWS = np.empty(0, dtype=np.int64)
-_NO_ELEMENTS = np.empty((0, 0), dtype=np.int32)
 
 
 def breed(
@@ -63,14 +54,16 @@ def breed(
     if usage is None and _crosses_within_used(settings):
         usage = _mapped(map_usage, codons)
     elites = ops.ranking(fitness, settings.elitism)
+    # One of the two selections, the other None (the kernels leave it out): a tournament's size, or
+    # truncation's parents, the best fraction ranked here (no draws), to draw from.
     if settings.selection == "tournament":
-        selection = (settings.tournament, _NO_ROWS)
-    else:  # truncation: parents drawn from the best fraction, ranked here (no draws)
-        selection = (0, ops.truncation_pool(fitness, settings.truncation))
+        tournament, pool = settings.tournament, None
+    else:
+        tournament, pool = None, ops.truncation_pool(fitness, settings.truncation)
     out_codons, out_genes = out
     _breed_generation(
-        rng, codons, _rows(genes), fitness, elites, selection, _crossing(settings, usage),
-        _mutating(settings), out_codons, _rows(out_genes),
+        rng, codons, _rows(genes), fitness, elites, tournament, pool, *_crossing(settings, usage),
+        _mutating_whole(settings), out_codons, _rows(out_genes),
     )  # fmt: skip
     _mutate_within_used(rng, settings, map_usage, (out_codons[elites.size :], out_genes[elites.size :]))
 
@@ -99,7 +92,7 @@ def make_children(
         usage.put(rows, _mapped(map_usage, codons[rows]), np.arange(rows.size))
     out_codons, out_genes = out
     _make_children(
-        rng, codons, _rows(genes), parents, _crossing(settings, usage), _mutating(settings),
+        rng, codons, _rows(genes), parents, *_crossing(settings, usage), _mutating_whole(settings),
         out_codons, _rows(out_genes),
     )  # fmt: skip
     _mutate_within_used(rng, settings, map_usage, out)
@@ -115,7 +108,7 @@ def _check_mapping(
 
 
 def _crosses_within_used(settings: Evolution) -> bool:
-    return _CROSSOVERS[settings.crossover_operator] != WHOLE_GENOME
+    return settings.crossover_operator != "onepoint within genome"
 
 
 def _mapped(map_usage: Callable[[np.ndarray], Usage] | None, codons: np.ndarray) -> Usage:
@@ -133,19 +126,32 @@ def _check_out(out: tuple[np.ndarray, np.ndarray]) -> None:
         raise ValueError("the children's arrays must be C-contiguous: they are written through flat views")
 
 
-def _crossing(settings: Evolution, usage: Usage | None) -> tuple:
-    """The crossover as the kernels take it: kind, rate, each row's used codons and element codons."""
-    kind = _CROSSOVERS[settings.crossover_operator]
-    if usage is None:  # whole-genome crossover reads no usage
-        return kind, settings.crossover, _NO_ROWS, _NO_ELEMENTS
-    return kind, settings.crossover, usage.codons, usage.element_codons
+def _crossing(settings: Evolution, usage: Usage | None) -> tuple[tuple | None, tuple | None]:
+    """The crossover as the kernels take it: over whole genomes (its rate), or else within the used
+    codons (rate, whether variable, each row's used codons and element codons). numba compiles the
+    kernels for the one given, leaving the other (None) out."""
+    if not _crosses_within_used(settings):
+        return (settings.crossover,), None
+    assert usage is not None  # breed and make_children map the parents otherwise
+    variable = settings.crossover_operator == "variable within used"
+    return None, (settings.crossover, variable, usage.codons, usage.element_codons)
 
 
 def _mutating(settings: Evolution) -> tuple:
-    """The mutation as the kernels take it: whether it is over whole genomes (made with the
-    crossover), rate, gap scale and largest codon."""
-    whole = settings.mutation_operator == "within genome"
-    return whole, settings.mutation, ops.gap_scale(settings.mutation), settings.codon_max
+    """The mutation as the kernels take it: rate, gap scale, largest codon and the type codons are
+    drawn in."""
+    return (
+        settings.mutation,
+        ops.gap_scale(settings.mutation),
+        settings.codon_max,
+        ops.codon_type(settings.codon_max),
+    )
+
+
+def _mutating_whole(settings: Evolution) -> tuple | None:
+    """The mutation over whole genomes, made with the crossover; None when it is within the used
+    codons (made after the children are mapped), which the kernels then leave out."""
+    return _mutating(settings) if settings.mutation_operator == "within genome" else None
 
 
 def _mutate_within_used(
@@ -160,53 +166,55 @@ def _mutate_within_used(
         return
     codons, genes = children
     usage = _mapped(map_usage, codons)
-    _, rate, scale, codon_max = _mutating(settings)
-    _mutate(rng, codons, _rows(genes), rate, scale, codon_max, usage.codons, usage.rows)
+    _mutate(rng, codons, _rows(genes), *_mutating(settings), usage.codons, usage.rows)
 
 
 @njit(cache=True)
 def _breed_generation(
-    rng, codons, genes, fitness, elites, selection, crossing, mutating, out_codons, out_genes
+    rng, codons, genes, fitness, elites, tournament, pool, whole, within_used, mutating, out_codons, out_genes
 ):  # pragma: no cover - compiled
-    """Elites first, then the children of parents chosen by tournament (``selection`` = size, no
-    pool) or from the ranked pool of a truncation (size 0)."""
+    """Elites first, then the children of parents chosen by ``tournament`` (its size) or drawn from a
+    truncation's ranked ``pool``, whichever is not None."""
     for k in range(elites.shape[0]):
-        out_codons[k] = codons[elites[k]]
-        out_genes[k] = genes[elites[k]]
+        ops.copy_span(codons, elites[k], np.int64(0), out_codons, k, np.int64(0), codons.shape[1])
+        ops.copy_span(genes, elites[k], np.int64(0), out_genes, k, np.int64(0), genes.shape[1])
     count = fitness.shape[0] - elites.shape[0]
-    size, pool = selection
-    if size > 0:
-        parents = ops.draw_tournaments(rng, fitness, size, count)
+    if tournament is not None:
+        parents = ops.draw_tournaments(rng, fitness, tournament, count)
     else:
         parents = ops.draw_from_pool(rng, pool, count)
     done = elites.shape[0]
-    _make_children(rng, codons, genes, parents, crossing, mutating, out_codons[done:], out_genes[done:])
+    _make_children(
+        rng, codons, genes, parents, whole, within_used, mutating, out_codons[done:], out_genes[done:]
+    )
 
 
 @njit(cache=True)
 def _make_children(
-    rng, codons, genes, parents, crossing, mutating, out_codons, out_genes
+    rng, codons, genes, parents, whole, within_used, mutating, out_codons, out_genes
 ):  # pragma: no cover - compiled
-    kind, rate, used, element_codons = crossing
+    """Children of ``parents``, crossed over ``whole`` genomes or ``within_used`` codons (the other
+    None: see :func:`_crossing`), then mutated over whole genomes unless ``mutating`` is None."""
     pairs = parents.shape[0] // 2
-    if kind == WHOLE_GENOME:
+    if whole is not None:
         slots = genes.shape[1] // PLACEMENT_GENES
-        crosses, codon_cut, gene_cut = ops.draw_crossover(rng, pairs, codons.shape[1], slots, rate)
+        crosses, codon_cut, gene_cut = ops.draw_crossover(rng, pairs, codons.shape[1], slots, whole[0])
         ops.cross_pairs(codons, genes, parents, crosses, codon_cut, gene_cut, out_codons, out_genes)
-    else:
-        crosses, first, second = uo.draw_cuts(rng, used[parents], rate, kind == VARIABLE)
+    elif within_used is not None:
+        rate, variable, used, element_codons = within_used
+        crosses, first, second = uo.draw_cuts(rng, used[parents], rate, variable)
         uo.splice_pairs(codons, genes, parents, crosses, first, second, element_codons, out_codons, out_genes)
-    whole, rate, scale, codon_max = mutating
-    if whole:
-        _mutate(rng, out_codons, out_genes, rate, scale, codon_max, _NO_ROWS, _NO_ROWS)
+    if mutating is not None:
+        rate, scale, codon_max, drawn_as = mutating
+        _mutate(rng, out_codons, out_genes, rate, scale, codon_max, drawn_as, _NO_ROWS, _NO_ROWS)
 
 
 @njit(cache=True)
-def _mutate(rng, codons, genes, rate, scale, codon_max, used_codons, used_rows):  # pragma: no cover
+def _mutate(rng, codons, genes, rate, scale, codon_max, drawn_as, used_codons, used_rows):  # pragma: no cover
     """Draw and apply an int-flip mutation of the rows of ``codons`` and flat ``genes``, within the
     used codons and element rows where they are given."""
     slots = genes.shape[1] // PLACEMENT_GENES
     draws = ops.draw_mutation(
-        rng, codons.shape[0], codons.shape[1], slots, rate, scale, codon_max, used_codons, used_rows
+        rng, codons.shape[0], codons.shape[1], slots, rate, scale, codon_max, drawn_as, used_codons, used_rows
     )
     ops.apply_mutation(*draws, codons, genes)

@@ -11,9 +11,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime.engine.used_operators import Usage
+from mazegen.runtime.threads import in_blocks
 
 _FNV_OFFSETS = (  # one FNV-1a chain per lane, each from its own start
     np.uint64(0xCBF29CE484222325),
@@ -26,7 +27,7 @@ _MIX_1 = np.uint64(0xBF58476D1CE4E5B9)
 _MIX_2 = np.uint64(0x94D049BB133111EB)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _mix(h):  # pragma: no cover - compiled
     """The splitmix64 finaliser: a bijection that spreads every input bit over the output."""
     h = (h ^ (h >> np.uint64(30))) * _MIX_1
@@ -34,7 +35,7 @@ def _mix(h):  # pragma: no cover - compiled
     return h ^ (h >> np.uint64(31))
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _lanes(row, a, b, c, d):  # pragma: no cover - compiled
     """Feed ``row`` to four FNV-1a chains, value ``j`` to chain ``j % 4`` (the tail to the first).
 
@@ -54,22 +55,22 @@ def _lanes(row, a, b, c, d):  # pragma: no cover - compiled
     return a, b, c, d
 
 
-@njit(cache=True, parallel=True)
-def _hash_rows(codons, genes):  # pragma: no cover - compiled
-    n = codons.shape[0]
-    out = np.empty(n, dtype=np.uint64)
-    for i in prange(n):
+@njit(cache=True, nogil=True)
+def _hash_rows(first, last, codons, genes, out):  # pragma: no cover - compiled
+    for i in range(first, last):
         a, b, c, d = _FNV_OFFSETS
         a, b, c, d = _lanes(codons[i], a, b, c, d)
         a, b, c, d = _lanes(genes[i], a, b, c, d)
         out[i] = _mix(_mix(_mix(_mix(a) ^ b) ^ c) ^ d)
-    return out
 
 
 def genome_hashes(codons: np.ndarray, genes: np.ndarray) -> np.ndarray:
     """``uint64[N]`` hash of each genome (codons and placement genes)."""
-    flat_genes = np.ascontiguousarray(genes).reshape(codons.shape[0], int(np.prod(genes.shape[1:])))
-    return _hash_rows(np.ascontiguousarray(codons), flat_genes)
+    n = codons.shape[0]
+    flat_genes = np.ascontiguousarray(genes).reshape(n, int(np.prod(genes.shape[1:])))
+    out = np.empty(n, dtype=np.uint64)
+    in_blocks(_hash_rows, n, np.ascontiguousarray(codons), flat_genes, out)
+    return out
 
 
 @dataclass(frozen=True)
@@ -140,7 +141,7 @@ class EvaluationCache:
         self._usage = usage
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _slot(table, key):  # pragma: no cover - compiled
     """The slot holding ``key``, or the empty slot where it would go."""
     mask = np.uint64(table.shape[0] - 1)

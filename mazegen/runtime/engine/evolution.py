@@ -13,8 +13,8 @@ from mazegen.runtime.engine import operators as ops
 from mazegen.runtime.engine.breeding import breed
 from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine.problem import Problem, Workspace
-from mazegen.runtime.engine.threads import threads_for
 from mazegen.runtime.engine.used_operators import Usage
+from mazegen.runtime.threads import threads_for
 from mazegen.spec import Evolution
 
 EVALUATION_CHUNK = 8192

@@ -36,7 +36,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from numba import get_num_threads, njit, prange
+from numba import njit
 
 from mazegen.runtime.engine.bnf import Grammar, Symbol
 from mazegen.runtime.engine.compiled_grammar import (
@@ -54,6 +54,7 @@ from mazegen.runtime.engine.compiled_grammar import (
     SIGN,
     CompiledGrammar,
 )
+from mazegen.runtime.threads import in_blocks
 
 NUMBERS_PER_ELEMENT = 4
 NO_ELEMENT = np.iinfo(np.int32).max
@@ -276,29 +277,27 @@ def map_population(
         c.term_end_node,
     )
     options = (
-        min(n, 8 * get_num_threads()),
         (max_depth + 3) * c.max_alt_len + 1,
         consume == "lazy",
         consume == "eager" and wraps == 0,
         _codon_limit(codons.shape[1], wraps, consume),
         max_depth,
     )
-    _map_all(codons, grammar, options, arrays)
+    in_blocks(_map_all, n, codons, grammar, options, arrays, per_thread=8)
     return result
 
 
-@njit(cache=True, parallel=True)
-def _map_all(codons, grammar, options, out):  # pragma: no cover - compiled
-    """Map the population in parallel slices, one preallocated stack per slice."""
-    n, chunks, capacity = codons.shape[0], options[0], options[1]
+@njit(cache=True, nogil=True)
+def _map_all(first, last, codons, grammar, options, out):  # pragma: no cover - compiled
+    """Map genomes ``first`` to ``last - 1`` with one preallocated stack."""
+    capacity = options[0]
     valid, used, n_elements = out[0], out[1], out[2]
-    for chunk in prange(chunks):
-        stack, depths = np.empty(capacity, np.int32), np.empty(capacity, np.int32)
-        for i in range(chunk * n // chunks, (chunk + 1) * n // chunks):
-            valid[i], used[i], n_elements[i] = _map_one(codons, i, grammar, options, stack, depths, out)
+    stack, depths = np.empty(capacity, np.int32), np.empty(capacity, np.int32)
+    for i in range(first, last):
+        valid[i], used[i], n_elements[i] = _map_one(codons, i, grammar, options, stack, depths, out)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cover - compiled
     """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped.
 
@@ -309,7 +308,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
     start, rule_alts, alt_symbols, alt_nts, symbols, choice = grammar[:6]
     term_chars, chars, trie, trie_element, classes = grammar[6:11]
     term_fast, term_emits, emits, term_end_mode, term_end_node = grammar[11:]
-    lazy, pony, limit, max_depth = options[2], options[3], options[4], options[5]
+    lazy, pony, limit, max_depth = options[1], options[2], options[3], options[4]
     element_ids, numbers = out[3], out[4]
     n, slots = codons.shape[1], element_ids.shape[1]
     stack[0], depths[0] = start, 1
@@ -390,7 +389,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
     return ok, used, count
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _finish(mode, node, value, trie_element, out, i, count, n_num, used):  # pragma: no cover - compiled
     """Emit the token that just ended; a ``count`` beyond the slots means overflow."""
     numbers = out[4]
@@ -402,7 +401,7 @@ def _finish(mode, node, value, trie_element, out, i, count, n_num, used):  # pra
     return count, n_num
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _emit(element, out, i, count, used):  # pragma: no cover - compiled
     """Record element number ``count`` of genome ``i``, completed after ``used`` codons
     (slots past the end only count)."""

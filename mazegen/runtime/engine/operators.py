@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime.engine.population import GENE_MAX, PLACEMENT_GENES
 
@@ -161,7 +161,8 @@ def draw_hits(rng, total, rate, scale):  # pragma: no cover - compiled
     while position < total:
         if hits.shape[0] < found + batch:
             grown = np.empty(found + batch, dtype=np.int64)
-            grown[:found] = hits[:found]
+            for k in range(found):
+                grown[k] = hits[k]
             hits = grown
         found, position = _add_gaps(rng.standard_exponential(batch), scale, total, hits, found, position)
     return hits[:found]
@@ -198,14 +199,22 @@ def mutation_draws(
     drawn in the narrowest integer type that holds them (narrow draws are several times faster).
     """
     no_usage = np.empty(0, dtype=np.int64)
+    codons = (codon_max, codon_type(codon_max))
     return MutationDraws(
-        *draw_mutation(rng, children, length, slots, rate, gap_scale(rate), codon_max, no_usage, no_usage)
+        *draw_mutation(rng, children, length, slots, rate, gap_scale(rate), *codons, no_usage, no_usage)
     )
+
+
+def codon_type(codon_max: int) -> type:
+    """The narrowest unsigned type that holds ``codon_max`` (NumPy's ``min_scalar_type``), in which
+    mutation draws new codons: narrow draws are several times faster. Given to the kernels as an
+    argument, so that they compile the draw of this one type only."""
+    return np.min_scalar_type(codon_max).type
 
 
 @njit(cache=True)
 def draw_mutation(
-    rng, children, length, slots, rate, scale, codon_max, used_codons, used_rows
+    rng, children, length, slots, rate, scale, codon_max, drawn_as, used_codons, used_rows
 ):  # pragma: no cover - compiled
     """The compiled :func:`mutation_draws`, or, given each child's used codons and element rows
     (``used_codons``, ``used_rows``; empty for whole genomes), the mutation within them.
@@ -216,24 +225,13 @@ def draw_mutation(
     codon_hits = draw_hits(rng, children * length, rate, scale)
     if used_codons.size:
         codon_hits = codon_hits[codon_hits % length < used_codons[codon_hits // length]]
-    codon_values = _codon_values(rng, codon_max, codon_hits.shape[0])
+    codon_values = rng.integers(0, codon_max, size=codon_hits.shape[0], dtype=drawn_as, endpoint=True)
     row = slots * PLACEMENT_GENES
     gene_hits = draw_hits(rng, children * row, rate, scale)
     if used_rows.size:
         gene_hits = gene_hits[gene_hits % row // PLACEMENT_GENES < used_rows[gene_hits // row]]
     gene_values = rng.integers(0, GENE_MAX, size=gene_hits.shape[0], dtype=np.uint16, endpoint=True)
-    return codon_hits, codon_values, gene_hits, gene_values
-
-
-@njit(cache=True)
-def _codon_values(rng, codon_max, count):  # pragma: no cover - compiled
-    """``count`` codons uniform in ``0..codon_max``, drawn in the narrowest unsigned type that holds
-    ``codon_max`` (NumPy's ``min_scalar_type``; narrow draws are several times faster)."""
-    if codon_max <= 0xFF:
-        return rng.integers(0, codon_max, size=count, dtype=np.uint8, endpoint=True).astype(np.int32)
-    if codon_max <= 0xFFFF:
-        return rng.integers(0, codon_max, size=count, dtype=np.uint16, endpoint=True).astype(np.int32)
-    return rng.integers(0, codon_max, size=count, dtype=np.uint32, endpoint=True).astype(np.int32)
+    return codon_hits, codon_values.astype(np.int32), gene_hits, gene_values
 
 
 def cross(
@@ -284,25 +282,38 @@ def apply_mutation(codon_hits, codon_values, gene_hits, gene_values, codons, gen
         genes[gene_hits[j] // row, gene_hits[j] % row] = gene_values[j]
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def cross_pairs(
     codons, genes, parents, crossing, codon_cut, gene_cut, out_codons, out_genes
 ):  # pragma: no cover - compiled
     """The compiled :func:`cross`: ``genes`` one flat row per genome, ``gene_cut`` in placement rows."""
     children = parents.shape[0]
-    for p in prange(children // 2):
+    for p in range(children // 2):
         first, second = parents[2 * p], parents[2 * p + 1]
         gene_cut_p = gene_cut[p] * PLACEMENT_GENES if crossing[p] else genes.shape[1]
         _copy_crossed(codons, first, second, codon_cut[p] if crossing[p] else codons.shape[1], out_codons, p)
         _copy_crossed(genes, first, second, gene_cut_p, out_genes, p)
     if children % 2:
-        out_codons[children - 1] = codons[parents[children - 1]]
-        out_genes[children - 1] = genes[parents[children - 1]]
+        copy_span(
+            codons, parents[children - 1], np.int64(0), out_codons, children - 1, np.int64(0), codons.shape[1]
+        )
+        copy_span(
+            genes, parents[children - 1], np.int64(0), out_genes, children - 1, np.int64(0), genes.shape[1]
+        )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _copy_crossed(source, first, second, cut, out, pair):  # pragma: no cover - compiled
-    out[2 * pair, :cut] = source[first, :cut]
-    out[2 * pair, cut:] = source[second, cut:]
-    out[2 * pair + 1, :cut] = source[second, :cut]
-    out[2 * pair + 1, cut:] = source[first, cut:]
+    width = source.shape[1]
+    copy_span(source, first, np.int64(0), out, 2 * pair, np.int64(0), cut)
+    copy_span(source, second, cut, out, 2 * pair, cut, width - cut)
+    copy_span(source, second, np.int64(0), out, 2 * pair + 1, np.int64(0), cut)
+    copy_span(source, first, cut, out, 2 * pair + 1, cut, width - cut)
+
+
+@njit(cache=True)
+def copy_span(source, row, start, out, out_row, out_start, count):  # pragma: no cover - compiled
+    """``out[out_row, out_start:][:count] = source[row, start:][:count]``, as a loop: numba compiles
+    each slice assignment with a shape check and its message, seconds of a first run apiece."""
+    for k in range(count):
+        out[out_row, out_start + k] = source[row, start + k]

@@ -14,8 +14,9 @@ from functools import cached_property, partial
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
+from mazegen.runtime.threads import in_blocks
 from mazegen.spec import Arena, Robot, Spec
 
 if TYPE_CHECKING:
@@ -112,8 +113,10 @@ class Ranges:
         )
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True)
 def _placement_kernel(
+    first,
+    last,
     ids,
     n_elements,
     genes,
@@ -132,7 +135,7 @@ def _placement_kernel(
     grammar_scale,
     out,
 ):  # pragma: no cover
-    for i in prange(ids.shape[0]):
+    for i in range(first, last):
         for k in range(n_elements[i]):
             e = ids[i, k]
             g = genes[i, k]
@@ -187,7 +190,9 @@ def placement_params(
     params = np.empty(shape, dtype=np.float64) if out is None else out
     if params.shape != shape or params.dtype != np.float64 or not params.flags.c_contiguous:
         raise ValueError("out does not fit the population")
-    _placement_kernel(
+    in_blocks(
+        _placement_kernel,
+        shape[0],
         mapped.element_ids,
         mapped.n_elements,
         genes,

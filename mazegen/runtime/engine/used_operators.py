@@ -26,11 +26,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 from numba.np.random.random_methods import buffered_bounded_lemire_uint32 as lemire_uint32
 
 from mazegen.runtime.engine.mapping import PopulationMap
-from mazegen.runtime.engine.operators import MutationDraws, draw_mutation, gap_scale
+from mazegen.runtime.engine.operators import MutationDraws, codon_type, copy_span, draw_mutation, gap_scale
 from mazegen.runtime.engine.population import PLACEMENT_GENES
 
 
@@ -90,7 +90,7 @@ def _put_rows(
     for j in range(rows.shape[0]):
         i, s = rows[j], source_rows[j]
         out_codons[i], out_rows[i] = codons[s], used_rows[s]
-        out_elements[i] = elements[s]
+        copy_span(elements, s, np.int64(0), out_elements, i, np.int64(0), elements.shape[1])
 
 
 @njit(cache=True)
@@ -104,7 +104,7 @@ def _put_mapped(
             out_codons[i], out_rows[i] = min(used_codons[j], length), n_elements[j]
         else:
             out_codons[i], out_rows[i] = length, slots
-        out_elements[i] = elements[j]
+        copy_span(elements, j, np.int64(0), out_elements, i, np.int64(0), slots)
 
 
 @njit(cache=True)
@@ -113,7 +113,7 @@ def _spread(first, codons, used_rows, elements):  # pragma: no cover - compiled
         f = first[i]
         if f != i:
             codons[i], used_rows[i] = codons[f], used_rows[f]
-            elements[i] = elements[f]
+            copy_span(elements, f, np.int64(0), elements, i, np.int64(0), elements.shape[1])
 
 
 @dataclass(frozen=True)
@@ -161,7 +161,7 @@ def draw_cuts(rng, used, rate, variable):  # pragma: no cover - compiled
     return crossing, first, second
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _one_to(rng, high):  # pragma: no cover - compiled
     """An integer uniform in ``1..max(high, 1)``, drawn as NumPy's ``integers(1, high + 1)`` draws it:
     numba's own port of NumPy's Lemire draw, called directly because numba's ``integers`` allocates
@@ -200,12 +200,12 @@ def splice_children(
     )
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def splice_pairs(
     codons, genes, parents, crossing, first_cut, second_cut, element_codons, out_codons, out_genes
 ):  # pragma: no cover - compiled
     children, length, slots = parents.shape[0], codons.shape[1], element_codons.shape[1]
-    for p in prange(children // 2):
+    for p in range(children // 2):
         a, b = parents[2 * p], parents[2 * p + 1]
         cut_a, cut_b, rows_a, rows_b = length, length, slots, slots  # a pair that does not cross
         if crossing[p]:
@@ -217,11 +217,13 @@ def splice_pairs(
         _splice(genes, a, b, rows_a * PLACEMENT_GENES, rows_b * PLACEMENT_GENES, out_genes, 2 * p)
         _splice(genes, b, a, rows_b * PLACEMENT_GENES, rows_a * PLACEMENT_GENES, out_genes, 2 * p + 1)
     if children % 2:
-        _splice(codons, parents[children - 1], 0, length, length, out_codons, children - 1)
-        _splice(genes, parents[children - 1], 0, genes.shape[1], genes.shape[1], out_genes, children - 1)
+        _splice(codons, parents[children - 1], np.int64(0), length, length, out_codons, children - 1)
+        _splice(
+            genes, parents[children - 1], np.int64(0), genes.shape[1], genes.shape[1], out_genes, children - 1
+        )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _elements_within(element_codons, cut):  # pragma: no cover - compiled
     """Elements complete once the first ``cut`` codons are read (they are in codon order)."""
     count = 0
@@ -230,15 +232,15 @@ def _elements_within(element_codons, cut):  # pragma: no cover - compiled
     return count
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _splice(source, head, tail, head_cut, tail_cut, out, row):  # pragma: no cover - compiled
     """``out[row]``: ``source[head]`` up to ``head_cut``, ``source[tail]`` from ``tail_cut`` for as
     long as both fit the width, and ``source[head]``'s own values in what is left."""
     width = source.shape[1]
     taken = width - max(head_cut, tail_cut)
-    out[row, :head_cut] = source[head, :head_cut]
-    out[row, head_cut : head_cut + taken] = source[tail, tail_cut : tail_cut + taken]
-    out[row, head_cut + taken :] = source[head, head_cut + taken :]
+    copy_span(source, head, np.int64(0), out, row, np.int64(0), head_cut)
+    copy_span(source, tail, tail_cut, out, row, head_cut, taken)
+    copy_span(source, head, head_cut + taken, out, row, head_cut + taken, width - head_cut - taken)
 
 
 def used_mutation_draws(
@@ -253,6 +255,15 @@ def used_mutation_draws(
     """
     children = usage.codons.shape[0]
     draws = draw_mutation(
-        rng, children, length, slots, rate, gap_scale(rate), codon_max, usage.codons, usage.rows
+        rng,
+        children,
+        length,
+        slots,
+        rate,
+        gap_scale(rate),
+        codon_max,
+        codon_type(codon_max),
+        usage.codons,
+        usage.rows,
     )
     return MutationDraws(*draws)

@@ -183,7 +183,9 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     # (Slices rather than offset indices: indices the compiler knows are not negative
     # spare it the wrap-around test that would keep these loops from being vectorised.)
     size = dilated.shape[0]
-    dilated[:] = widened[spans[reach], :size]
+    first = widened[spans[reach], :size]
+    for i in range(size):
+        dilated[i] = first[i]
     for dy in range(1 - reach, reach + 1):
         source = widened[spans[abs(dy)], (reach + dy) * stride : (reach + dy) * stride + size]
         for i in range(size):
@@ -195,7 +197,7 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     return occupied_cells
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _widen_flat(source, out):  # pragma: no cover - compiled
     """``out`` = ``source`` with every set bit spread one column to each side (one flat bit string)."""
     last = source.shape[0] - 1
@@ -206,7 +208,7 @@ def _widen_flat(source, out):  # pragma: no cover - compiled
     out[last] = source[last] | (source[last] << ONE) | (source[last] >> ONE) | (source[last - 1] >> HIGH)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cover - compiled
     """Set every cell that convex part ``p`` of element ``k`` touches."""
     if box[2] < 0.0 or box[3] < 0.0 or box[0] > cols * cell or box[1] > rows * cell:
@@ -248,7 +250,7 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
         set_block(occupied, r, r, c0, c1)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
     """Whether every edge of the 4-vertex part ``p`` of element ``k`` is horizontal or vertical."""
     for v in range(4):
@@ -260,7 +262,7 @@ def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
     return True
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def is_free(free, r, c, cols):  # pragma: no cover - compiled
     """Whether cell ``(r, c)`` of the bit rows ``free`` is free; cells outside the grid are not."""
     return 0 <= r < free.shape[0] and 0 <= c < cols and is_set(free[r], c)

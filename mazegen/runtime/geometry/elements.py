@@ -21,10 +21,10 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numba
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
+from mazegen.runtime.threads import in_blocks
 from mazegen.spec import ElementType
 
 
@@ -85,7 +85,7 @@ def element_bounds(
     ids, n_el, prm = population_arrays(table, element_ids, n_elements, params)
     out = np.full((*ids.shape, 4), np.nan)
     if ids.shape[0]:
-        _bounds_kernel(table.shapes, ids, n_el, prm, blocks_for(ids.shape[0]), out)
+        in_blocks(_bounds_kernel, ids.shape[0], table.shapes, ids, n_el, prm, out)
     return out
 
 
@@ -144,11 +144,6 @@ def population_arrays(
     return ids, n_el, prm
 
 
-def blocks_for(n: int) -> int:
-    """Blocks of individuals: a few per thread so uneven blocks balance out."""
-    return min(n, 4 * numba.get_num_threads())
-
-
 # Cephes sin/cos: polynomials on a quarter octant after an extended-precision
 # reduction; libm's sin and cos cost as much as all the rest of a transform.
 _FOUR_OVER_PI = 1.2732395447351628
@@ -157,7 +152,7 @@ _DP2 = 3.77489470793079817668e-8
 _DP3 = 2.69515142907905952645e-15
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _sincos(x):
     """Return ``(sin x, cos x)`` to about one ulp for ``|x| < 1e8``."""
     sign = math.copysign(1.0, x)
@@ -212,7 +207,7 @@ def _sincos(x):
     return s, c
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def world_element(shapes, e, row, wv, pbox, ebox, k):
     """Write element ``e``'s world vertices, part boxes and box to ``wv[k]``, ``pbox[k]``, ``ebox[k]``.
 
@@ -256,13 +251,12 @@ def world_element(shapes, e, row, wv, pbox, ebox, k):
     ebox[k, 3] = eymax
 
 
-@njit(parallel=True, cache=True)
-def _bounds_kernel(shapes, ids, n_el, params, n_blocks, out):
+@njit(cache=True, nogil=True)
+def _bounds_kernel(first, last, shapes, ids, n_el, params, out):
     unit = shapes[2]
-    n, k_max = ids.shape
-    for block in prange(n_blocks):
-        wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
-        pbox = np.empty((k_max, unit.shape[1], 4))
-        for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
-            for k in range(n_el[i]):
-                world_element(shapes, ids[i, k], params[i, k], wv, pbox, out[i], k)
+    k_max = ids.shape[1]
+    wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
+    pbox = np.empty((k_max, unit.shape[1], 4))
+    for i in range(first, last):
+        for k in range(n_el[i]):
+            world_element(shapes, ids[i, k], params[i, k], wv, pbox, out[i], k)

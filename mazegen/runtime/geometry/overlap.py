@@ -11,9 +11,10 @@ from __future__ import annotations
 from collections.abc import Callable
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
-from mazegen.runtime.geometry.elements import ElementTable, blocks_for, population_arrays, world_element
+from mazegen.runtime.geometry.elements import ElementTable, population_arrays, world_element
+from mazegen.runtime.threads import in_blocks
 
 
 def overlapping_pairs(
@@ -71,7 +72,9 @@ def _count(
     out = np.zeros(ids.shape[0], np.int32)
     if ids.shape[0]:
         shapes = table.shapes
-        kernel(
+        in_blocks(
+            kernel,
+            ids.shape[0],
             shapes,
             table.unit_radius,
             table.offset_radius,
@@ -79,7 +82,6 @@ def _count(
             n_el,
             prm,
             *settings,
-            blocks_for(ids.shape[0]),
             out,
         )
     return out
@@ -89,13 +91,13 @@ def _count(
 _REACH_MARGIN = 1.0 + 1e-9
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _reach(unit_radius, offset_radius, e, sx, sy):
     """Radius around its position that contains element type ``e`` at scale ``(sx, sy)``."""
     return (unit_radius[e] * max(sx, sy) + offset_radius[e]) * _REACH_MARGIN
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _boxes_meet(box, a, b):
     """True if two boxes' interiors intersect (touching boxes do not meet).
 
@@ -107,7 +109,7 @@ def _boxes_meet(box, a, b):
     )
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _edge_separates(wv, ka, pa, na, kb, pb, nb):
     """True if some edge line of convex CCW polygon A has all of B on its outer side.
 
@@ -131,7 +133,7 @@ def _edge_separates(wv, ka, pa, na, kb, pb, nb):
     return False
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox):
     """True if some part of element ``a`` (type ``ea``) overlaps some part of ``b`` (type ``eb``)."""
     for pa in range(n_parts[ea]):
@@ -158,67 +160,62 @@ def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox):
     return False
 
 
-@njit(parallel=True, cache=True)
-def _overlap_kernel(shapes, unit_radius, offset_radius, ids, n_el, params, n_blocks, out):
+@njit(cache=True, nogil=True)
+def _overlap_kernel(first, last, shapes, unit_radius, offset_radius, ids, n_el, params, out):
     n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
-    n, k_max = ids.shape
-    for block in prange(n_blocks):
-        wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
-        pbox = np.empty((k_max, unit.shape[1], 4))
-        ebox = np.empty((k_max, 4))
-        radius = np.empty(k_max)
-        placed = np.empty(k_max, np.bool_)
-        pairs = np.empty((k_max * (k_max - 1) // 2, 2), np.int64)
-        for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
-            m = n_el[i]
-            for k in range(m):
-                radius[k] = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
-                placed[k] = False
-            # Bounding circles need no trigonometry, so elements far from all
-            # others are never transformed. Candidates are collected without a
-            # branch: few circles meet, at random.
-            n_pairs = 0
-            for a in range(m):
-                for b in range(a + 1, m):
-                    dx = params[i, a, 0] - params[i, b, 0]
-                    dy = params[i, a, 1] - params[i, b, 1]
-                    reach = radius[a] + radius[b]
-                    pairs[n_pairs, 0] = a
-                    pairs[n_pairs, 1] = b
-                    n_pairs += dx * dx + dy * dy < reach * reach
-            count = 0
-            for q in range(n_pairs):
-                for side in range(2):
-                    k = pairs[q, side]
-                    if not placed[k]:
-                        world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, k)
-                        placed[k] = True
-                a = pairs[q, 0]
-                b = pairs[q, 1]
-                if _boxes_meet(ebox, a, b):
-                    ea, eb = ids[i, a], ids[i, b]
-                    count += _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox)
-            out[i] = count
+    k_max = ids.shape[1]
+    wv = np.empty((k_max, unit.shape[1], unit.shape[2], 2))
+    pbox = np.empty((k_max, unit.shape[1], 4))
+    ebox = np.empty((k_max, 4))
+    radius = np.empty(k_max)
+    placed = np.empty(k_max, np.bool_)
+    pairs = np.empty((k_max * (k_max - 1) // 2, 2), np.int64)
+    for i in range(first, last):
+        m = n_el[i]
+        for k in range(m):
+            radius[k] = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
+            placed[k] = False
+        # Bounding circles need no trigonometry, so elements far from all
+        # others are never transformed. Candidates are collected without a
+        # branch: few circles meet, at random.
+        n_pairs = 0
+        for a in range(m):
+            for b in range(a + 1, m):
+                dx = params[i, a, 0] - params[i, b, 0]
+                dy = params[i, a, 1] - params[i, b, 1]
+                reach = radius[a] + radius[b]
+                pairs[n_pairs, 0] = a
+                pairs[n_pairs, 1] = b
+                n_pairs += dx * dx + dy * dy < reach * reach
+        count = 0
+        for q in range(n_pairs):
+            for side in range(2):
+                k = pairs[q, side]
+                if not placed[k]:
+                    world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, k)
+                    placed[k] = True
+            a = pairs[q, 0]
+            b = pairs[q, 1]
+            if _boxes_meet(ebox, a, b):
+                ea, eb = ids[i, a], ids[i, b]
+                count += _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox)
+        out[i] = count
 
 
-@njit(parallel=True, cache=True)
-def _outside_kernel(shapes, unit_radius, offset_radius, ids, n_el, params, width, height, n_blocks, out):
+@njit(cache=True, nogil=True)
+def _outside_kernel(first, last, shapes, unit_radius, offset_radius, ids, n_el, params, width, height, out):
     unit = shapes[2]
-    n = ids.shape[0]
-    for block in prange(n_blocks):
-        wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
-        pbox = np.empty((1, unit.shape[1], 4))
-        ebox = np.empty((1, 4))
-        for i in range(block * n // n_blocks, (block + 1) * n // n_blocks):
-            count = 0
-            for k in range(n_el[i]):
-                x = params[i, k, 0]
-                y = params[i, k, 1]
-                r = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
-                if x - r >= 0.0 and y - r >= 0.0 and x + r <= width and y + r <= height:
-                    continue  # the bounding circle is inside: no need to transform
-                world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, 0)
-                count += (
-                    (ebox[0, 0] < 0.0) | (ebox[0, 1] < 0.0) | (ebox[0, 2] > width) | (ebox[0, 3] > height)
-                )
-            out[i] = count
+    wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
+    pbox = np.empty((1, unit.shape[1], 4))
+    ebox = np.empty((1, 4))
+    for i in range(first, last):
+        count = 0
+        for k in range(n_el[i]):
+            x = params[i, k, 0]
+            y = params[i, k, 1]
+            r = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
+            if x - r >= 0.0 and y - r >= 0.0 and x + r <= width and y + r <= height:
+                continue  # the bounding circle is inside: no need to transform
+            world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, np.int64(0))
+            count += (ebox[0, 0] < 0.0) | (ebox[0, 1] < 0.0) | (ebox[0, 2] > width) | (ebox[0, 3] > height)
+        out[i] = count

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime.geometry.cspace import Grid, cspace, grid_args, raster_arrays, straight_free
 from mazegen.runtime.geometry.rectangles import (
@@ -31,6 +31,7 @@ from mazegen.runtime.geometry.rectangles import (
     same_as_below,
 )
 from mazegen.runtime.navigation.paths import kernel_args
+from mazegen.runtime.threads import in_blocks
 
 if TYPE_CHECKING:
     from mazegen.runtime.engine.population import Population
@@ -55,33 +56,31 @@ def reach(pop: Population, grid: Grid) -> Reach:
     solvable = np.zeros(n, dtype=np.bool_)
     coverage = np.zeros(n)
     if n:
-        _reach_all(*kernel_args(pop), grid_args(grid), min(n, 32), solvable, coverage)  # type: ignore[call-arg]
+        in_blocks(_reach_all, n, *kernel_args(pop), grid_args(grid), solvable, coverage, per_thread=16)
     return Reach(solvable, coverage)
 
 
-@njit(cache=True, parallel=True)
-def _reach_all(shapes, ids, n_el, params, valid, grid, blocks, solvable, coverage):  # pragma: no cover
-    """Fill ``solvable`` and ``coverage``, ``blocks`` slices of the population in parallel."""
-    n = ids.shape[0]
+@njit(cache=True, nogil=True)
+def _reach_all(first, last, shapes, ids, n_el, params, valid, grid, solvable, coverage):  # pragma: no cover
+    """Fill ``solvable`` and ``coverage`` of individuals ``first`` to ``last - 1``."""
     rows, cols = grid[1], grid[2]
-    for block in prange(blocks):
-        raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
-        free = np.zeros((rows, grid[4].shape[1]), np.uint64)
-        runs, parent = component_arrays(rows, cols)
-        for i in range(block * n // blocks, (block + 1) * n // blocks):
-            if not valid[i]:
-                continue
-            occupied = cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
-            coverage[i] = occupied / (rows * cols)
-            solvable[i] = straight_free(free, cols, grid[0], grid[5]) or connected(
-                free, cols, grid[6], runs, parent
-            )
+    raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
+    free = np.zeros((rows, grid[4].shape[1]), np.uint64)
+    runs, parent = component_arrays(rows, cols)
+    for i in range(first, last):
+        if not valid[i]:
+            continue
+        occupied = cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
+        coverage[i] = occupied / (rows * cols)
+        solvable[i] = straight_free(free, cols, grid[0], grid[5]) or connected(
+            free, cols, grid[6], runs, parent
+        )
 
 
 @njit(cache=True)
 def component_arrays(rows, cols):  # pragma: no cover - compiled
     """Scratch of :func:`connected` on a ``rows`` x ``cols`` grid: two rows' runs, and the union-find."""
-    return run_arrays(2, cols), np.zeros(rows * runs_per_row(cols), np.int64)
+    return run_arrays(np.int64(2), cols), np.zeros(rows * runs_per_row(cols), np.int64)
 
 
 @njit(cache=True)
@@ -111,7 +110,7 @@ def connected(free, cols, cells, runs, parent):  # pragma: no cover - compiled
     return start >= 0 and goal >= 0 and _root(parent, start) == _root(parent, goal)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _join_runs(runs, below, n_below, here, n_here, parent, count):  # pragma: no cover - compiled
     """Label each run of ``runs[here]`` as the first run below it overlaps, uniting that run's set
     with those of the others it overlaps (a new label when it overlaps none); returns the labels
@@ -138,7 +137,7 @@ def _join_runs(runs, below, n_below, here, n_here, parent, count):  # pragma: no
     return count
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _unite(parent, a, b):  # pragma: no cover - compiled
     """Join the sets of ``a`` and ``b``."""
     a, b = _root(parent, a), _root(parent, b)
@@ -146,7 +145,7 @@ def _unite(parent, a, b):  # pragma: no cover - compiled
         parent[b] = a
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _root(parent, a):  # pragma: no cover - compiled
     """The root of ``a``'s set, halving the path on the way."""
     while parent[a] != a:

@@ -33,12 +33,13 @@ from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime.geometry.bits import ONE
 from mazegen.runtime.geometry.cspace import grid_args, grid_of, is_free, point_grid_of
 from mazegen.runtime.geometry.rectangles import row_runs_of, run_arrays
 from mazegen.runtime.navigation.paths import Navigation, kernel_args, route, route_scratch
+from mazegen.runtime.threads import in_blocks
 from mazegen.spec import PATH_METRICS
 
 if TYPE_CHECKING:
@@ -165,50 +166,50 @@ def survey(pop: Population) -> Survey:
     coverage = np.zeros(n)
     table = np.full((n, len(METRICS)), np.nan)
     if n:
-        _survey_all(  # type: ignore[call-arg]
+        in_blocks(
+            _survey_all,
+            n,
             *kernel_args(pop),
             grid_args(grid),
             grid_args(point_grid_of(arena)),
             dispersion_radius(arena.robot_radius, grid.cell),
-            min(n, 32),
             solvable,
             length,
             coverage,
             table,
+            per_thread=16,
         )
     straight = math.dist(grid.start, grid.goal)
     table[:, METRICS.index("tortuosity")] = length / straight if straight > 0 else np.nan
     return Survey(Navigation(solvable, length, coverage, straight, grid.cell), table, arena.robot_radius)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True)
 def _survey_all(  # pragma: no cover - compiled
-    shapes, ids, n_el, params, valid, grid, point_grid, reach, blocks, solvable, length, coverage, table
+    first, last, shapes, ids, n_el, params, valid, grid, point_grid, reach, solvable, length, coverage, table
 ):
-    """Fill the outputs, ``blocks`` slices of the population in parallel."""
-    n = ids.shape[0]
+    """Fill the outputs of individuals ``first`` to ``last - 1``."""
     rows, cols = grid[1], grid[2]
-    for block in prange(blocks):
-        scratch = route_scratch(shapes, ids.shape[1], grid)
-        cells = np.zeros((rows * cols, 2), np.int64)  # path_cells stops when it is full
-        steps = step_arrays(rows, cols)
-        for i in range(block * n // blocks, (block + 1) * n // blocks):
-            if not valid[i]:
-                continue
-            occupied, found, total, turns = route(shapes, ids[i], n_el[i], params[i], grid, scratch)
-            coverage[i] = occupied / (rows * cols)
-            if not found:
-                continue
-            solvable[i] = True
-            length[i] = total
-            free = scratch[1]
-            count = path_cells(scratch[5], turns, free, grid[0], cols, cells)
-            fill_free_steps(free, cols, steps)
-            _path_metrics(free, cols, steps, cells, count, reach, grid[0], table[i])
-            # The robot's scratch serves the point: same cells, and no wider dilation padding.
-            _, point_found, point_total, _ = route(shapes, ids[i], n_el[i], params[i], point_grid, scratch)
-            # The robot's path is a path for a point too: the point's is the shorter of the two.
-            table[i, 5] = total / min(point_total, total) if point_found and total > 0.0 else 1.0
+    scratch = route_scratch(shapes, ids.shape[1], grid)
+    cells = np.zeros((rows * cols, 2), np.int64)  # path_cells stops when it is full
+    steps = step_arrays(rows, cols)
+    for i in range(first, last):
+        if not valid[i]:
+            continue
+        occupied, found, total, turns = route(shapes, ids[i], n_el[i], params[i], grid, scratch)
+        coverage[i] = occupied / (rows * cols)
+        if not found:
+            continue
+        solvable[i] = True
+        length[i] = total
+        free = scratch[1]
+        count = path_cells(scratch[5], turns, free, grid[0], cols, cells)
+        fill_free_steps(free, cols, steps)
+        _path_metrics(free, cols, steps, cells, count, reach, grid[0], table[i])
+        # The robot's scratch serves the point: same cells, and no wider dilation padding.
+        _, point_found, point_total, _ = route(shapes, ids[i], n_el[i], params[i], point_grid, scratch)
+        # The robot's path is a path for a point too: the point's is the shorter of the two.
+        table[i, 5] = total / min(point_total, total) if point_found and total > 0.0 else 1.0
 
 
 @njit(cache=True)
@@ -238,7 +239,7 @@ def path_cells(corners, turns, free, cell, cols, out):  # pragma: no cover - com
     return count
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _free_cell_at(free, x, y, cols):  # pragma: no cover - compiled
     """A free cell holding the point ``(x, y)`` (in cells), or (-1, -1)."""
     r0, c0 = math.floor(y), math.floor(x)
@@ -289,7 +290,7 @@ def step_arrays(rows, cols):  # pragma: no cover - compiled
     return (
         np.zeros((rows + 2, cols + 2), np.int32),  # 1 on free cells
         np.zeros((8, rows + 2, cols + 2), np.int32),  # free steps along each king direction
-        run_arrays(1, cols),  # one row's runs
+        run_arrays(np.int64(1), cols),  # one row's runs
     )
 
 
@@ -312,7 +313,7 @@ def fill_free_steps(free, cols, arrays):  # pragma: no cover - compiled
             cells = is_open[r + 1, 1 + 64 * w : 1 + min(64 * (w + 1), cols)]
             for b in range(cells.shape[0]):
                 cells[b] = (x >> np.uint64(b)) & ONE
-        for j in range(row_runs_of(free, r, cols, runs, 0)):
+        for j in range(row_runs_of(free, r, cols, runs, np.int64(0))):
             lo, hi = runs[0, j, 0], runs[0, j, 1]
             right = steps[0, r + 1, lo + 1 : hi + 2]
             left = steps[4, r + 1, lo + 1 : hi + 2]

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime.geometry.cspace import Grid, cspace, grid_args, raster_arrays, straight_free, unpack
 from mazegen.runtime.geometry.rectangles import (
@@ -42,6 +42,7 @@ from mazegen.runtime.geometry.rectangles import (
     rectangle_arrays,
     runs_per_row,
 )
+from mazegen.runtime.threads import in_blocks
 
 if TYPE_CHECKING:
     from mazegen.runtime.engine.population import Population
@@ -90,7 +91,7 @@ def navigate(pop: Population, grid: Grid) -> Navigation:
     coverage = np.zeros(n)
     if n:
         outputs = (solvable, length, coverage)
-        _navigate_all(*kernel_args(pop), grid_args(grid), min(n, 32), *outputs)  # type: ignore[call-arg]
+        in_blocks(_navigate_all, n, *kernel_args(pop), grid_args(grid), *outputs, per_thread=16)
     straight = math.dist(grid.start, grid.goal)
     return Navigation(solvable, length, coverage, straight, grid.cell)
 
@@ -142,30 +143,37 @@ def _corner_paths(shapes, ids, n_el, params, valid, grid, rows):  # pragma: no c
             turns = turns if found else 0
         if ends[k] + turns > corners.shape[0]:
             grown = np.empty((2 * (ends[k] + turns), 2))
-            grown[: ends[k]] = corners[: ends[k]]
+            copy_points(corners, np.int64(0), grown, np.int64(0), ends[k])
             corners = grown
-        corners[ends[k] : ends[k] + turns] = scratch[5][:turns]
+        copy_points(scratch[5], np.int64(0), corners, ends[k], turns)
         ends[k + 1] = ends[k] + turns
     return corners, ends
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
+def copy_points(source, start, out, out_start, count):  # pragma: no cover - compiled
+    """``out[out_start:][:count] = source[start:][:count]`` for rows of two coordinates, as a loop (a
+    slice assignment compiles a shape check and its message)."""
+    for k in range(count):
+        out[out_start + k, 0] = source[start + k, 0]
+        out[out_start + k, 1] = source[start + k, 1]
+
+
+@njit(cache=True, nogil=True)
 def _navigate_all(
-    shapes, ids, n_el, params, valid, grid, blocks, solvable, length, coverage
+    first, last, shapes, ids, n_el, params, valid, grid, solvable, length, coverage
 ):  # pragma: no cover
-    """Fill ``solvable``, ``length`` and ``coverage``, ``blocks`` slices of the population in parallel."""
-    n = ids.shape[0]
+    """Fill ``solvable``, ``length`` and ``coverage`` of individuals ``first`` to ``last - 1``."""
     cells = grid[1] * grid[2]
-    for block in prange(blocks):
-        scratch = route_scratch(shapes, ids.shape[1], grid)
-        for i in range(block * n // blocks, (block + 1) * n // blocks):
-            if not valid[i]:
-                continue
-            occupied, found, total, _ = route(shapes, ids[i], n_el[i], params[i], grid, scratch)
-            coverage[i] = occupied / cells
-            solvable[i] = found
-            if found:
-                length[i] = total
+    scratch = route_scratch(shapes, ids.shape[1], grid)
+    for i in range(first, last):
+        if not valid[i]:
+            continue
+        occupied, found, total, _ = route(shapes, ids[i], n_el[i], params[i], grid, scratch)
+        coverage[i] = occupied / cells
+        solvable[i] = found
+        if found:
+            length[i] = total
 
 
 @njit(cache=True)
@@ -237,7 +245,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     last = heads.shape[0] - 1
     lowest = min(int(math.sqrt((gx - sx) * (gx - sx) + (gy - sy) * (gy - sy))), last)
     first_used = highest = lowest
-    used = _enqueue(heads, entries, 0, lowest, start)
+    used = _enqueue(heads, entries, np.int64(0), lowest, start)
     while True:
         while lowest <= highest and heads[lowest] < 0:
             lowest += 1
@@ -296,7 +304,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     return True, total * cell, turns
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
     entries[used, 0] = heads[bucket]
     entries[used, 1] = node
@@ -313,7 +321,7 @@ def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma:
     when walking through it; the funnel algorithm pulls the path taut. The path's
     vertices, start and goal included, go to ``corners``.
     """
-    _portal(portals, 0, sx, sy, sx, sy)
+    _portal(portals, np.int64(0), sx, sy, sx, sy)
     n = 1
     for h in range(hops - 1, 0, -1):
         a, b = corridor[h], corridor[h - 1]
@@ -363,12 +371,12 @@ def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma:
     return total + math.sqrt((gx - ax) * (gx - ax) + (gy - ay) * (gy - ay)), turns + 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _portal(portals, n, lx, ly, rx, ry):  # pragma: no cover - compiled
     portals[n, 0], portals[n, 1], portals[n, 2], portals[n, 3] = lx, ly, rx, ry
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _cross(ax, ay, bx, by, cx, cy):  # pragma: no cover - compiled
     """Twice the signed area of triangle a, b, c: positive when c lies left of a → b."""
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)

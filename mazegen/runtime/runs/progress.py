@@ -17,6 +17,7 @@ from rich.console import Console
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TaskID, TextColumn, TimeElapsedColumn
 
 from mazegen.runtime import EVERY_RUN_KERNELS
+from mazegen.runtime.compiling import RUN_SECONDS, compile_note
 from mazegen.runtime.engine.evolution import GenerationStats
 
 VISIBLE_RUNS = 16
@@ -43,9 +44,7 @@ def reporter_for(*, quiet: bool) -> Reporter:
     return QuietReporter() if quiet else RichReporter()
 
 
-FIRST_COMPILE_NOTE = (
-    "compiling MazeGen's kernels, once for this version (up to a minute); later runs start at once"
-)
+FIRST_COMPILE_NOTE = compile_note("run", RUN_SECONDS)
 
 
 def note_first_compile(reporter: Reporter, *, kernels: tuple[str, ...] = EVERY_RUN_KERNELS) -> None:

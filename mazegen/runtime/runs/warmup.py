@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
-import itertools
+
 import multiprocessing.connection
 import signal
 import sys
@@ -39,7 +39,7 @@ from mazegen.runtime.geometry.elements import ElementTable, world_vertices
 from mazegen.runtime.engine.operators import random_codons, random_genes
 from mazegen.runtime.engine.population import PLACEMENT_GENES, Population
 from mazegen.runtime.engine.problem import Problem, Workspace
-from mazegen.spec import CROSSOVER_OPERATORS, MUTATION_OPERATORS, Spec, robot_for
+from mazegen.spec import Spec, robot_for
 
 TINY = 8
 """Individuals of the population that compiles the kernels."""
@@ -166,9 +166,7 @@ def compile_evolution_kernels(problem: Problem) -> None:
     metrics.elements_over_size(floors, 1.0)
     world_vertices(problem.table, np.zeros(1, np.int32), np.zeros((1, PLACEMENT_GENES)))
     genome_hashes(codons, genes)
-    for crossover, mutation in zip(CROSSOVER_OPERATORS, itertools.cycle(MUTATION_OPERATORS)):
-        operators = dataclasses.replace(settings, crossover_operator=crossover, mutation_operator=mutation)
-        spare = (np.empty_like(codons), np.empty_like(genes))
-        breed(rng, codons, genes, np.zeros(TINY), operators, spare, map_usage=problem.usage)
+    spare = (np.empty_like(codons), np.empty_like(genes))
+    breed(rng, codons, genes, np.zeros(TINY), settings, spare, map_usage=problem.usage)  # the spec's operators
     # Last, when the helper has most likely cached solvability: whatever else the fitness calls.
     evolve(problem, settings, rng)

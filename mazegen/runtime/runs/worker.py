@@ -21,7 +21,6 @@ from time import perf_counter
 from types import ModuleType
 from typing import Any, Protocol
 
-import numba
 import numpy as np
 
 from mazegen.errors import MazeError, option
@@ -35,6 +34,7 @@ from mazegen.runtime.documents.best import best_documents
 from mazegen.runtime.engine.evolution import GenerationStats, RunResult, RunState, evolve
 from mazegen.runtime.engine.problem import Problem, compiled_bnf, load_fitness
 from mazegen.runtime.runs.results import run_files, writing_checkpoints
+from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import Spec
 
 RunKey = tuple[int, int]
@@ -150,17 +150,10 @@ def _fitness_module(text: str) -> ModuleType:
 
 
 @contextmanager
-def numba_threads(count: int | None) -> Iterator[None]:
-    """Run the block on ``count`` numba threads (the setting is per thread; restored after)."""
-    if count is None:
+def kernel_threads(count: int | None) -> Iterator[None]:
+    """Run the block's kernels on ``count`` threads (default: as many as in use)."""
+    with threads(thread_count() if count is None else count):
         yield
-        return
-    previous = numba.get_num_threads()
-    numba.set_num_threads(count)
-    try:
-        yield
-    finally:
-        numba.set_num_threads(previous)
 
 
 class _Checkpointer:
@@ -214,7 +207,7 @@ def run_task(task: RunTask, channel: Channel) -> RunOutcome:
     """
     if channel.stop_requested():
         return InterruptedRun(task.key, None, False)
-    with numba_threads(task.threads), _writing_checkpoints(task):
+    with kernel_threads(task.threads), _writing_checkpoints(task):
         problem = problem_of(task.build)
         settings = problem.spec.evolution
         checkpointer = _Checkpointer(task, settings.generations)

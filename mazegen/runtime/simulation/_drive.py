@@ -12,7 +12,6 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-import numba
 import numpy as np
 
 from mazegen.errors import MazeError
@@ -21,11 +20,12 @@ from mazegen.runtime.simulation._choice import FIELDS, Choice, choose, lidar_rea
 from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
 from mazegen.runtime.simulation._fields import floor_fields
 from mazegen.runtime.simulation._lidar import beam_angles
-from mazegen.runtime.simulation._loop import begin_all, run_all
+from mazegen.runtime.simulation._loop import begin_all, controller_slots, run_all
 from mazegen.runtime.simulation._paths import FloorPaths, floor_paths
 from mazegen.runtime.simulation._policy import run_policy
 from mazegen.runtime.simulation._step import CLEARANCE, CX, CY, DISTANCE, Setup, new_state
 from mazegen.runtime.simulation._world import World, world_of
+from mazegen.runtime.threads import in_blocks
 from mazegen.spec import ControllerSpec, Robot
 
 
@@ -153,21 +153,20 @@ def _run_with_fields(
 
 
 def _run_bundled(choice: Choice, run: Setup, fields: tuple, *arrays: np.ndarray) -> None:
-    blocks = min(len(arrays[0]), 32 * numba.get_num_threads())
-    with numba.parallel_chunksize(1):  # episodes differ in length: hand out blocks one at a time
-        paths, fov = (run.paths.corners, run.paths.count), (run.angles, run.reach)
-        run_all(
-            choice.code,
-            choice.params,
-            run.world.arrays,
-            run.episode,
-            *paths,
-            fields,
-            *fov,
-            blocks,
-            arrays[:5],
-            arrays[5],
-        )
+    paths, fov = (run.paths.corners, run.paths.count), (run.angles, run.reach)
+    in_blocks(
+        run_all,
+        len(arrays[0]),
+        *controller_slots(choice.code, choice.params),
+        run.world.arrays,
+        run.episode,
+        *paths,
+        fields,
+        *fov,
+        arrays[:5],
+        arrays[5],
+        per_thread=32,  # episodes differ in length: many small blocks even them out
+    )
 
 
 def _starts(population: Population, m: int, starts: np.ndarray | None) -> np.ndarray:

@@ -23,11 +23,12 @@ import math
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime.geometry.bits import is_set
 from mazegen.runtime.geometry.cspace import cspace, grid_args, grid_of, raster_arrays
 from mazegen.runtime.navigation.paths import kernel_args
+from mazegen.runtime.threads import in_blocks
 
 if TYPE_CHECKING:
     from mazegen.runtime.engine.population import Population
@@ -62,28 +63,27 @@ def floor_fields(
     if m:
         shapes, ids, n_el, params, _ = kernel_args(population)
         extent = np.array([arena.width, arena.height])
-        blocks = min(m, 64)
-        _fields_all(shapes, ids, n_el, params, indices, grid_args(grid), extent, blocks, nav, clear)
+        in_blocks(_fields_all, m, shapes, ids, n_el, params, indices, grid_args(grid), extent, nav, clear)
     return nav, clear, np.array([0.0, 0.0, grid.cell, grid.rows, grid.cols])
 
 
-@njit(cache=True, parallel=True)
-def _fields_all(shapes, ids, n_el, params, indices, grid, extent, blocks, nav, clear):  # pragma: no cover
-    """Fill ``nav[m]`` and ``clear[m]`` for floor ``indices[m]``, ``blocks`` slices in parallel."""
+@njit(cache=True, nogil=True)
+def _fields_all(
+    first, last, shapes, ids, n_el, params, indices, grid, extent, nav, clear
+):  # pragma: no cover
+    """Fill ``nav[m]`` and ``clear[m]`` for floor ``indices[m]``, ``m`` from ``first`` to ``last - 1``."""
     rows, cols = grid[1], grid[2]
     reach = grid[3].shape[0] - 1
-    n = indices.shape[0]
-    for block in prange(blocks):
-        raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
-        free = np.zeros((rows, grid[4].shape[1]), np.uint64)
-        stride = raster[1].shape[0] // rows
-        occupied = raster[0][0, reach * stride : (reach + rows) * stride].reshape((rows, stride))
-        scratch = field_scratch(rows, cols)
-        for m in range(block * n // blocks, (block + 1) * n // blocks):
-            i = indices[m]
-            cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
-            clearance(occupied, grid[0], extent, clear[m], scratch)
-            navigation(free, grid[0], grid[5], grid[6], nav[m], scratch)
+    raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
+    free = np.zeros((rows, grid[4].shape[1]), np.uint64)
+    stride = raster[1].shape[0] // rows
+    occupied = raster[0][0, reach * stride : (reach + rows) * stride].reshape((rows, stride))
+    scratch = field_scratch(rows, cols)
+    for m in range(first, last):
+        i = indices[m]
+        cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
+        clearance(occupied, grid[0], extent, clear[m], scratch)
+        navigation(free, grid[0], grid[5], grid[6], nav[m], scratch)
 
 
 @njit(cache=True)
@@ -131,7 +131,7 @@ def clearance(occupied, cell, extent, out, scratch):  # pragma: no cover - compi
             out[r, c] = min(math.sqrt(done[c]) * cell, edge)
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _lower_envelope(f, n, hull, bounds, out):  # pragma: no cover - compiled
     """``out[:n]``: the 1D squared distance transform ``min_q (p - q)² + f[q]`` of ``f[:n]``
     (Felzenszwalb and Huttenlocher's lower envelope of parabolas)."""
@@ -186,7 +186,7 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
     per_cell = 1.0 / cell
     ring = heads.shape[0]
     bucket = int(seed * per_cell)
-    used = _file(keys, cells, links, heads, 0, seed, gr * cols + gc, bucket % ring)
+    used = _file(keys, cells, links, heads, np.int64(0), seed, gr * cols + gc, bucket % ring)
     pending = 1
     diagonal = math.sqrt(2.0) * cell
     while pending:
@@ -222,7 +222,7 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
                     pending += 1
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def _file(keys, cells, links, heads, used, key, value, slot):  # pragma: no cover - compiled
     """Put ``(key, value)`` first in bucket ``slot``, in entry ``used``; returns the next free entry."""
     keys[used], cells[used], links[used] = key, value, heads[slot]

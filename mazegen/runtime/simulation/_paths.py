@@ -10,13 +10,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-import numba
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.geometry.cspace import grid_args, grid_of
-from mazegen.runtime.navigation.paths import kernel_args, route, route_scratch
+from mazegen.runtime.navigation.paths import copy_points, kernel_args, route, route_scratch
+from mazegen.runtime.threads import in_blocks
 from mazegen.spec import Arena
 
 
@@ -61,9 +61,8 @@ def floor_paths(population: Population, indices: np.ndarray, *, margin: float | 
         length = np.full(len(rows), np.nan)
         count = np.zeros(len(rows), np.int64)
         points = np.zeros((len(rows), max(capacity, 1), 2))
-        blocks = max(1, min(len(rows), 8 * numba.get_num_threads()))
         arrays = (shapes, ids, n_el, params, valid, rows, plain, half, wide, bool(margin))
-        _paths(*arrays, capacity, blocks, length, count, points)
+        in_blocks(_paths, len(rows), *arrays, capacity, length, count, points, per_thread=8)
         if count.max(initial=0) <= capacity or margin is None:
             return FloorPaths(length, points, count if margin is not None else np.zeros_like(count))
         capacity = int(count.max())  # a rare path with more corners than CORNERS: once more, wider
@@ -77,38 +76,51 @@ def _wider(arena: Arena, margin: float) -> Arena:
     return replace(arena, robot_radius=arena.robot_radius + margin, grid=arena.cell)
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True)
 def _paths(
-    shapes, ids, n_el, params, valid, rows, plain, half, wide, widen, capacity, blocks, length, count, points
+    first,
+    last,
+    shapes,
+    ids,
+    n_el,
+    params,
+    valid,
+    rows,
+    plain,
+    half,
+    wide,
+    widen,
+    capacity,
+    length,
+    count,
+    points,
 ):  # pragma: no cover
-    """Lengths of the paths of ``rows`` on the ``plain`` grid; when ``capacity`` is positive, the
+    """Lengths of the paths of ``rows[first:last]`` on the ``plain`` grid; when ``capacity`` is positive, the
     corners of the path on the widest grid (``wide``, ``half`` when ``widen``, ``plain``) that has one
     too, or how many there would be when more than ``capacity``."""
-    m = rows.shape[0]
-    for block in prange(blocks):
-        scratch = route_scratch(shapes, ids.shape[1], plain)
-        half_scratch = route_scratch(shapes, ids.shape[1], half)
-        wide_scratch = route_scratch(shapes, ids.shape[1], wide)
-        for j in range(block * m // blocks, (block + 1) * m // blocks):
-            i = rows[j]
-            if not valid[i]:
-                continue
-            _, found, total, turns = route(shapes, ids[i], n_el[i], params[i], plain, scratch)
-            if not found:
-                continue
-            length[j] = total
-            if capacity == 0:
-                continue
-            corners = scratch[5]
-            found, wide_turns = False, 0
-            if widen:
-                _, found, _, wide_turns = route(shapes, ids[i], n_el[i], params[i], wide, wide_scratch)
+    scratch = route_scratch(shapes, ids.shape[1], plain)
+    half_scratch = route_scratch(shapes, ids.shape[1], half)
+    wide_scratch = route_scratch(shapes, ids.shape[1], wide)
+    for j in range(first, last):
+        i = rows[j]
+        if not valid[i]:
+            continue
+        _, found, total, turns = route(shapes, ids[i], n_el[i], params[i], plain, scratch)
+        if not found:
+            continue
+        length[j] = total
+        if capacity == 0:
+            continue
+        corners = scratch[5]
+        found, wide_turns = False, 0
+        if widen:
+            _, found, _, wide_turns = route(shapes, ids[i], n_el[i], params[i], wide, wide_scratch)
+        if found:
+            corners, turns = wide_scratch[5], wide_turns
+        elif widen:
+            _, found, _, half_turns = route(shapes, ids[i], n_el[i], params[i], half, half_scratch)
             if found:
-                corners, turns = wide_scratch[5], wide_turns
-            elif widen:
-                _, found, _, half_turns = route(shapes, ids[i], n_el[i], params[i], half, half_scratch)
-                if found:
-                    corners, turns = half_scratch[5], half_turns
-            count[j] = turns
-            if turns <= capacity:
-                points[j, :turns] = corners[:turns]
+                corners, turns = half_scratch[5], half_turns
+        count[j] = turns
+        if turns <= capacity:
+            copy_points(corners, np.int64(0), points[j], np.int64(0), turns)

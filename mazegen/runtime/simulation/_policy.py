@@ -15,11 +15,12 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.errors import MazeError
 from mazegen.runtime.simulation._lidar import scan
 from mazegen.runtime.simulation._step import ACTIVE, THETA, Setup, V, W, X, Y, advance
+from mazegen.runtime.threads import in_blocks
 
 
 @dataclass(frozen=True)
@@ -67,7 +68,8 @@ def run_policy(
     while active.size:
         observations = _observe(run, rows, active, state, step, most)
         actions = _actions(name, policy, observations, step)
-        _apply(active, actions, run.world.arrays, run.episode, (state, outcome, steps, progress, stuck))
+        robots = (state, outcome, steps, progress, stuck)
+        in_blocks(_apply, active.size, active, actions, run.world.arrays, run.episode, robots)
         step += 1
         _record(active, step, state, trajectory)
         active = active[outcome[active] == ACTIVE]
@@ -79,7 +81,8 @@ def _observe(
     n = active.size
     ranges = np.empty((n, run.angles.size))
     goal = np.empty((n, 3))
-    _observe_kernel(active, state, run.goal, run.angles, run.reach, run.world.arrays, most, ranges, goal)
+    lidar = (run.angles, run.reach, run.world.arrays, most)
+    in_blocks(_observe_kernel, n, active, state, run.goal, *lidar, ranges, goal)
     velocity = state[active][:, [V, W]]
     return Observations(ranges, run.angles, goal, velocity, step, rows[active], run.limits)
 
@@ -115,13 +118,15 @@ def _record(active: np.ndarray, step: int, state: np.ndarray, trajectory: np.nda
         trajectory[active, step] = state[active][:, [X, Y, THETA]]
 
 
-@njit(cache=True, parallel=True)
-def _observe_kernel(active, state, goal, angles, reach, world, most, ranges, to_goal):  # pragma: no cover
-    for j in prange(active.shape[0]):
+@njit(cache=True, nogil=True)
+def _observe_kernel(
+    first, last, active, state, goal, angles, reach, world, most, ranges, to_goal
+):  # pragma: no cover - compiled
+    near = np.empty(most, np.int64)
+    for j in range(first, last):
         m = active[j]
         x, y, theta = state[m, X], state[m, Y], state[m, THETA]
         if angles.shape[0]:
-            near = np.empty(most, np.int64)
             scan(x, y, theta, angles, reach, m, world, near, ranges[j])
         dx, dy = goal[0] - x, goal[1] - y
         bearing = math.atan2(dy, dx) - theta
@@ -130,7 +135,7 @@ def _observe_kernel(active, state, goal, angles, reach, world, most, ranges, to_
         to_goal[j, 2] = math.sin(bearing)
 
 
-@njit(cache=True, parallel=True)
-def _apply(active, actions, world, episode, robots):  # pragma: no cover - compiled
-    for j in prange(active.shape[0]):
+@njit(cache=True, nogil=True)
+def _apply(first, last, active, actions, world, episode, robots):  # pragma: no cover - compiled
+    for j in range(first, last):
         advance(active[j], actions[j, 0], actions[j, 1], world, episode, robots)

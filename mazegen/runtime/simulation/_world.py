@@ -14,10 +14,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit, prange
+from numba import njit
 
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.geometry.elements import world_element
+from mazegen.runtime.threads import in_blocks
 
 
 @dataclass(frozen=True)
@@ -64,27 +65,44 @@ def world_of(population: Population, indices: np.ndarray) -> World:
         params = np.ascontiguousarray(population.params, np.float64)
         element_ids = np.ascontiguousarray(population.element_ids, np.int32)
         n_elements = np.ascontiguousarray(population.n_elements, np.int32)
-        _place(table.shapes, element_ids, n_elements, params, rows, first, vertices, count, box)
+        in_blocks(
+            _place,
+            len(rows),
+            table.shapes,
+            element_ids,
+            n_elements,
+            params,
+            rows,
+            first,
+            vertices,
+            count,
+            box,
+        )
     arena = population.arena
     return World(first, vertices, count, box, np.array([arena.width, arena.height], np.float64))
 
 
-@njit(cache=True, parallel=True)
-def _place(shapes, ids, n_el, params, rows, first, vertices, count, box):  # pragma: no cover - compiled
-    """Write the parts of floors ``rows`` from ``first[m]`` on, as every kernel places them
+@njit(cache=True, nogil=True)
+def _place(
+    start, stop, shapes, ids, n_el, params, rows, first, vertices, count, box
+):  # pragma: no cover - compiled
+    """Write the parts of floors ``rows[start:stop]`` from ``first[m]`` on, as every kernel places them
     (:func:`mazegen.runtime.geometry.elements.world_element`)."""
     n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
-    for m in prange(rows.shape[0]):
+    placed = np.empty((1, unit.shape[1], unit.shape[2], 2))
+    part_box = np.empty((1, unit.shape[1], 4))
+    element_box = np.empty((1, 4))
+    for m in range(start, stop):
         i = rows[m]
-        placed = np.empty((1, unit.shape[1], unit.shape[2], 2))
-        part_box = np.empty((1, unit.shape[1], 4))
-        element_box = np.empty((1, 4))
         q = first[m]
         for k in range(n_el[i]):
             e = ids[i, k]
-            world_element(shapes, e, params[i, k], placed, part_box, element_box, 0)
+            world_element(shapes, e, params[i, k], placed, part_box, element_box, np.int64(0))
             for p in range(n_parts[e]):
                 count[q] = n_vertices[e, p]
-                vertices[q, : count[q]] = placed[0, p, : count[q]]
-                box[q] = part_box[0, p]
+                for v in range(count[q]):
+                    vertices[q, v, 0] = placed[0, p, v, 0]
+                    vertices[q, v, 1] = placed[0, p, v, 1]
+                for side in range(4):
+                    box[q, side] = part_box[0, p, side]
                 q += 1

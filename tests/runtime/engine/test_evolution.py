@@ -52,7 +52,7 @@ def test_thread_count_does_not_change_results(factory):
     """5,000 individuals run on every numba thread; forced onto one, the run is identical."""
     import numba
 
-    from mazegen.runtime.engine.threads import PARALLEL_FROM
+    from mazegen.runtime.threads import PARALLEL_FROM
 
     settings = factory.spec.evolution.__class__(population=PARALLEL_FROM + 904, generations=3)
     parallel = evolve(factory, settings, np.random.default_rng(9))

@@ -1,0 +1,56 @@
+"""Saying so when a command waits for numba to compile kernels.
+
+numba compiles a kernel the first time a process calls it, unless this version's compiled code is
+in the kernel cache (:mod:`mazegen.runtime`). A command that may be the first to call some kernel
+(a drive with a controller never driven before, say) runs its work inside :func:`noting_compiles`,
+which says so once, the moment numba starts to compile, and says nothing when every kernel came
+from the cache. The figures the notes give are those ``benchmarks/startup.py`` measures.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+
+from numba.core import event
+
+RUN_SECONDS = 20
+"""Seconds a first run compiles for, at most, on a quiet 2-core machine (``benchmarks/startup.py``)."""
+
+DRIVE_SECONDS = 15
+"""Seconds a first drive with one bundled controller compiles for, at most, likewise."""
+
+
+def compile_note(work: str, seconds: int) -> str:
+    """The line that says a first ``work`` (run, drive, score) compiles for up to ``seconds``."""
+    return (
+        f"compiling MazeGen's kernels for this {work}, once for this version "
+        f"(up to {seconds} s on a quiet 2-core machine); later ones start at once"
+    )
+
+
+class _FirstCompile(event.Listener):
+    """Calls ``say(note)`` when numba first starts compiling, once."""
+
+    def __init__(self, say: Callable[[str], None], note: str) -> None:
+        self._say, self._note = say, note
+        self._lock = threading.Lock()  # kernels called from several threads compile one at a time
+        self.compiled = False
+
+    def on_start(self, ev: event.Event) -> None:
+        with self._lock:
+            if self.compiled:
+                return
+            self.compiled = True
+        self._say(self._note)
+
+    def on_end(self, ev: event.Event) -> None:
+        """Nothing to say."""
+
+
+@contextmanager
+def noting_compiles(say: Callable[[str], None], work: str, seconds: int) -> Iterator[None]:
+    """Run the block; if numba compiles anything in it, ``say`` :func:`compile_note` once, as it starts."""
+    with event.install_listener("numba:compile", _FirstCompile(say, compile_note(work, seconds))):
+        yield

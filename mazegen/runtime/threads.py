@@ -1,0 +1,100 @@
+"""How many threads the kernels use, and how a kernel's work is split over them.
+
+Kernels are compiled for one thread, with the GIL released (``nogil``), and take the range of
+items they work on; :func:`in_blocks` runs one over blocks of a range on a pool of Python
+threads. numba's own parallel kernels (``parallel=True`` and ``prange``) compile each kernel
+twice over (the parallel loop is outlined into a function of its own, after the parfor passes
+analyse it): that cost most of a first run's compiling, for no speed a block split lacks.
+
+Blocks write disjoint rows, so a result is the same whatever the thread count. Waking a
+second thread costs tens of microseconds a call, so small populations run on one thread
+(:func:`threads_for`), in the calling thread, and leave the other cores to other runs.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import threading
+from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import Any
+
+import numba
+
+CORES: int = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]  # set at import by numba
+"""Threads available: the cores this process may use, or ``NUMBA_NUM_THREADS``."""
+
+PARALLEL_FROM = 4096
+"""Individuals per generation from which the kernels use every thread."""
+
+_threads: ContextVar[int] = ContextVar("mazegen_threads", default=CORES)
+_pools: dict[int, ThreadPoolExecutor] = {}
+_pools_lock = threading.Lock()
+
+
+def thread_count() -> int:
+    """Threads the kernels called here use."""
+    return _threads.get()
+
+
+@contextmanager
+def threads(count: int) -> Iterator[int]:
+    """Run the block's kernels on ``count`` threads (at most :data:`CORES`); restored after.
+
+    Yields:
+        The number of threads in use.
+    """
+    token = _threads.set(max(1, min(count, CORES)))
+    try:
+        yield _threads.get()
+    finally:
+        _threads.reset(token)
+
+
+@contextmanager
+def threads_for(population: int) -> Iterator[int]:
+    """Run the block on one thread below :data:`PARALLEL_FROM` individuals, else on all in use."""
+    with threads(thread_count() if population >= PARALLEL_FROM else 1) as count:
+        yield count
+
+
+def in_blocks(kernel: Callable[..., Any], count: int, *args: Any, per_thread: int = 2) -> None:
+    """Call ``kernel(first, last, *args)`` over blocks ``[first, last)`` that cover ``range(count)``.
+
+    With one thread in use the kernel runs once, here, over the whole range. Otherwise the range
+    is cut into ``per_thread`` blocks a thread (more blocks even out items of unequal cost): this
+    thread works the first while the pool's threads take the others in turn.
+    """
+    workers = thread_count()
+    if workers == 1 or count < 2:
+        kernel(0, count, *args)
+        return
+    blocks = min(count, per_thread * workers)
+    cuts = [k * count // blocks for k in range(blocks + 1)]
+    pool = _pool(workers - 1)
+    pending = [pool.submit(kernel, first, last, *args) for first, last in itertools.pairwise(cuts[1:])]
+    try:
+        kernel(0, cuts[1], *args)
+    finally:
+        for block in pending:
+            block.result()
+
+
+def _pool(workers: int) -> ThreadPoolExecutor:
+    with _pools_lock:
+        if workers not in _pools:
+            _pools[workers] = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="mazegen-kernel")
+        return _pools[workers]
+
+
+def _forget_pools() -> None:
+    """A forked child has none of its parent's threads: it starts pools of its own."""
+    global _pools_lock
+    _pools.clear()
+    _pools_lock = threading.Lock()
+
+
+os.register_at_fork(after_in_child=_forget_pools)
