@@ -54,10 +54,10 @@ def breed(
     if usage is None and _crosses_within_used(settings):
         usage = _mapped(map_usage, codons)
     elites = ops.ranking(fitness, settings.elitism)
-    # One of the two selections, the other None (the kernels leave it out): a tournament's size, or
-    # truncation's parents, the best fraction ranked here (no draws), to draw from.
+    # A tournament's size, or None for truncation (the kernels then leave tournaments out), whose
+    # parents are drawn from the best fraction, ranked here (no draws).
     if settings.selection == "tournament":
-        tournament, pool = settings.tournament, None
+        tournament, pool = settings.tournament, _NO_ROWS
     else:
         tournament, pool = None, ops.truncation_pool(fitness, settings.truncation)
     out_codons, out_genes = out
@@ -173,8 +173,8 @@ def _mutate_within_used(
 def _breed_generation(
     rng, codons, genes, fitness, elites, tournament, pool, whole, within_used, mutating, out_codons, out_genes
 ):  # pragma: no cover - compiled
-    """Elites first, then the children of parents chosen by ``tournament`` (its size) or drawn from a
-    truncation's ranked ``pool``, whichever is not None."""
+    """Elites first, then the children of parents chosen by ``tournament`` (its size), or when it is
+    None drawn from a truncation's ranked ``pool``."""
     for k in range(elites.shape[0]):
         ops.copy_span(codons, elites[k], np.int64(0), out_codons, k, np.int64(0), codons.shape[1])
         ops.copy_span(genes, elites[k], np.int64(0), out_genes, k, np.int64(0), genes.shape[1])

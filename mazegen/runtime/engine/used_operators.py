@@ -161,7 +161,7 @@ def draw_cuts(rng, used, rate, variable):  # pragma: no cover - compiled
     return crossing, first, second
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _one_to(rng, high):  # pragma: no cover - compiled
     """An integer uniform in ``1..max(high, 1)``, drawn as NumPy's ``integers(1, high + 1)`` draws it:
     numba's own port of NumPy's Lemire draw, called directly because numba's ``integers`` allocates
@@ -223,7 +223,7 @@ def splice_pairs(
         )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _elements_within(element_codons, cut):  # pragma: no cover - compiled
     """Elements complete once the first ``cut`` codons are read (they are in codon order)."""
     count = 0

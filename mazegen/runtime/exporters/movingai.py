@@ -22,7 +22,7 @@ from mazegen.runtime.exporters.floor import ExportOptions, Floor
 SQRT2 = math.sqrt(2.0)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _octile(dr, dc):  # pragma: no cover - compiled
     """Octile distance over ``dr`` rows and ``dc`` columns."""
     low, high = min(abs(dr), abs(dc)), max(abs(dr), abs(dc))

@@ -52,7 +52,7 @@ def popcount(x):  # pragma: no cover - compiled
     return int(_ctpop(x))
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def span_mask(first, last, w):  # pragma: no cover - compiled
     """The bits of word ``w`` that lie in columns ``first..last`` (``w`` within their words)."""
     lo = first - 64 * w if w == first >> 6 else 0

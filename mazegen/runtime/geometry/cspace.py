@@ -197,7 +197,7 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     return occupied_cells
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _widen_flat(source, out):  # pragma: no cover - compiled
     """``out`` = ``source`` with every set bit spread one column to each side (one flat bit string)."""
     last = source.shape[0] - 1
@@ -208,7 +208,7 @@ def _widen_flat(source, out):  # pragma: no cover - compiled
     out[last] = source[last] | (source[last] << ONE) | (source[last] >> ONE) | (source[last - 1] >> HIGH)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cover - compiled
     """Set every cell that convex part ``p`` of element ``k`` touches."""
     if box[2] < 0.0 or box[3] < 0.0 or box[0] > cols * cell or box[1] > rows * cell:
@@ -250,7 +250,7 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
         set_block(occupied, r, r, c0, c1)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
     """Whether every edge of the 4-vertex part ``p`` of element ``k`` is horizontal or vertical."""
     for v in range(4):

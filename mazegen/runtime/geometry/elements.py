@@ -152,7 +152,7 @@ _DP2 = 3.77489470793079817668e-8
 _DP3 = 2.69515142907905952645e-15
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _sincos(x):
     """Return ``(sin x, cos x)`` to about one ulp for ``|x| < 1e8``."""
     sign = math.copysign(1.0, x)

@@ -110,7 +110,7 @@ def connected(free, cols, cells, runs, parent):  # pragma: no cover - compiled
     return start >= 0 and goal >= 0 and _root(parent, start) == _root(parent, goal)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _join_runs(runs, below, n_below, here, n_here, parent, count):  # pragma: no cover - compiled
     """Label each run of ``runs[here]`` as the first run below it overlaps, uniting that run's set
     with those of the others it overlaps (a new label when it overlaps none); returns the labels
@@ -137,7 +137,7 @@ def _join_runs(runs, below, n_below, here, n_here, parent, count):  # pragma: no
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _unite(parent, a, b):  # pragma: no cover - compiled
     """Join the sets of ``a`` and ``b``."""
     a, b = _root(parent, a), _root(parent, b)
@@ -145,7 +145,7 @@ def _unite(parent, a, b):  # pragma: no cover - compiled
         parent[b] = a
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _root(parent, a):  # pragma: no cover - compiled
     """The root of ``a``'s set, halving the path on the way."""
     while parent[a] != a:

@@ -239,7 +239,7 @@ def path_cells(corners, turns, free, cell, cols, out):  # pragma: no cover - com
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _free_cell_at(free, x, y, cols):  # pragma: no cover - compiled
     """A free cell holding the point ``(x, y)`` (in cells), or (-1, -1)."""
     r0, c0 = math.floor(y), math.floor(x)
@@ -256,7 +256,7 @@ def _free_cell_at(free, x, y, cols):  # pragma: no cover - compiled
     return -1, -1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _path_metrics(free, cols, arrays, cells, count, reach, cell, out):  # pragma: no cover - compiled
     """Write the per-cell metrics' averages over the ``count`` path cells into ``out``
     (``arrays`` as :func:`fill_free_steps` leaves them for ``free``)."""

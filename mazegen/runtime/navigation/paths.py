@@ -212,7 +212,7 @@ def route(shapes, ids, count, params, grid, scratch):  # pragma: no cover - comp
     return occupied, found, total, turns
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
     """Scratch arrays of one search over at most ``capacity`` rectangles."""
     return (
@@ -224,7 +224,7 @@ def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  # pragma: no cover - compiled
     """Search rectangle ``start`` → ``goal``; returns (found, path length, corners written to ``corners``).
 
@@ -304,7 +304,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     return True, total * cell, turns
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
     entries[used, 0] = heads[bucket]
     entries[used, 1] = node
@@ -312,7 +312,7 @@ def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
     return used + 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma: no cover - compiled
     """The shortest path from start to goal through the corridor's portals, in cell units: (length, corners).
 
@@ -371,7 +371,7 @@ def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma:
     return total + math.sqrt((gx - ax) * (gx - ax) + (gy - ay) * (gy - ay)), turns + 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _portal(portals, n, lx, ly, rx, ry):  # pragma: no cover - compiled
     portals[n, 0], portals[n, 1], portals[n, 2], portals[n, 3] = lx, ly, rx, ry
 

@@ -40,7 +40,7 @@ def straight_command(
     out[1] = params[0] * error
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _closest(path, x, y):  # pragma: no cover - compiled
     """Segment index and fraction of the point of polyline ``path`` nearest ``(x, y)``."""
     best = math.inf

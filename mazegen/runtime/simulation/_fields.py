@@ -131,7 +131,7 @@ def clearance(occupied, cell, extent, out, scratch):  # pragma: no cover - compi
             out[r, c] = min(math.sqrt(done[c]) * cell, edge)
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _lower_envelope(f, n, hull, bounds, out):  # pragma: no cover - compiled
     """``out[:n]``: the 1D squared distance transform ``min_q (p - q)² + f[q]`` of ``f[:n]``
     (Felzenszwalb and Huttenlocher's lower envelope of parabolas)."""
@@ -222,7 +222,7 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
                     pending += 1
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _file(keys, cells, links, heads, used, key, value, slot):  # pragma: no cover - compiled
     """Put ``(key, value)`` first in bucket ``slot``, in entry ``used``; returns the next free entry."""
     keys[used], cells[used], links[used] = key, value, heads[slot]

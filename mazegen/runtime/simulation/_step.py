@@ -109,7 +109,7 @@ def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no co
         outcome[m] = ARRIVED
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _window(command, current, change, low, high):  # pragma: no cover - compiled
     return min(max(min(max(command, current - change), current + change), low), high)
 

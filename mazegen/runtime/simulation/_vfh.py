@@ -70,12 +70,12 @@ def vfh_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
     out[1] = params[HEADING_GAIN] * steer
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _free(density, seen, s, threshold):  # pragma: no cover - compiled
     return seen[s] and density[s] <= threshold
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _opening(density, seen, threshold, width, wide, bearing):  # pragma: no cover - compiled
     """The candidate direction (robot frame) nearest ``bearing`` over every opening; ``inf`` if none."""
     n = density.shape[0]
@@ -109,7 +109,7 @@ def _opening(density, seen, threshold, width, wide, bearing):  # pragma: no cove
     return best
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def _sector(angle, width, n):  # pragma: no cover - compiled
     """The sector holding ``angle`` (radians from the heading); sector 0 starts at -pi."""
     if not -math.pi <= angle < math.pi:  # beam angles are already: no remainder to take
