@@ -1,22 +1,25 @@
 """Fitting the difficulty score to measured traversal: rank correlation, held-out R², and
 non-negative least squares over the metrics' hardness terms.
 
-``benchmarks/calibration.py`` drives the bundled controllers over a suite of floors and saves, per
-floor, the metrics and the measured difficulty; :func:`fit_score` turns that into the weights of
-:data:`mazegen.runtime.navigation.difficulty.WEIGHTS` (version 2 of the score), and a test refits
-them from the saved data. Plain NumPy: a handful of features, a few hundred floors.
+``benchmarks/calibration.py`` drives the bundled controllers over a suite of floors and saves the
+floors (their elements) and, per floor, the metrics and the measured difficulty; :func:`score_fit`
+turns that into the weights of :data:`mazegen.runtime.navigation.difficulty.WEIGHTS` (version 2 of
+the score), and tests refit them from the saved data and check the figures the docs quote
+against it. Plain NumPy: a handful of features, a few hundred floors.
 """
 
 from __future__ import annotations
 
 import csv
 import itertools
+import json
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from mazegen.runtime.navigation.difficulty import METRICS, hardness
+from mazegen.runtime.navigation.difficulty import METRICS, difficulty_score, hardness
 
 
 def ranks(values: np.ndarray) -> np.ndarray:
@@ -120,11 +123,25 @@ def measured_target(data: list[dict[str, float | str]], controllers: tuple[str, 
     return (ratio - 1.0) / (timeout - 1.0)
 
 
+def metric_table(data: list[dict[str, float | str]]) -> tuple[np.ndarray, np.ndarray]:
+    """``float64[N, len(METRICS)]``, the metrics of each floor of the data, and ``float64[N]``, its scale
+    (the robot's radius)."""
+    table = np.array([[float(row[name]) for name in METRICS] for row in data])
+    return table, np.array([float(row["scale"]) for row in data])
+
+
 def score_features(data: list[dict[str, float | str]]) -> np.ndarray:
     """The :func:`~mazegen.runtime.navigation.difficulty.hardness` of each floor of the data."""
-    table = np.array([[float(row[name]) for name in METRICS] for row in data])
-    scale = np.array([float(row["scale"]) for row in data])
+    table, scale = metric_table(data)
     return np.vstack([hardness(table[k : k + 1], scale[k]) for k in range(len(data))])
+
+
+def data_scores(data: list[dict[str, float | str]], version: int) -> np.ndarray:
+    """The :func:`~mazegen.runtime.navigation.difficulty.difficulty_score` (``version``) of each floor."""
+    table, scale = metric_table(data)
+    return np.concatenate(
+        [difficulty_score(table[k : k + 1], scale[k], version=version) for k in range(len(data))]
+    )
 
 
 def score_fit(data: list[dict[str, float | str]]) -> Fit:
@@ -133,8 +150,94 @@ def score_fit(data: list[dict[str, float | str]]) -> Fit:
     return fit_nonnegative(score_features(data), measured_target(data, TARGET_CONTROLLERS))
 
 
+@dataclass(frozen=True)
+class CalibrationFloors:
+    """The floors the calibration drives, as ``benchmarks/calibration.py`` saved them.
+
+    Attributes:
+        seed: The seed of the perturbed starts (the first spec's; each next spec's is one more)
+            and of the held-out folds.
+        starts: Perturbed starts per floor.
+        floors: One ``{"spec": name, "elements": [...]}`` per floor, the elements as scenario
+            documents place them (type, position, size, rotation; docs/scenario-format.md).
+    """
+
+    seed: int
+    starts: int
+    floors: list[dict[str, Any]]
+
+    def text(self) -> str:
+        """The saved file's text: deterministic, one floor a line."""
+        lines = ",\n".join(json.dumps(floor) for floor in self.floors)
+        return f'{{"seed": {self.seed}, "starts": {self.starts}, "floors": [\n{lines}\n]}}\n'
+
+    @classmethod
+    def read(cls, path: Path) -> CalibrationFloors:
+        """The floors saved at ``path``."""
+        saved = json.loads(path.read_text(encoding="utf-8"))
+        return cls(int(saved["seed"]), int(saved["starts"]), saved["floors"])
+
+
 def read_calibration(path: Path) -> list[dict[str, float | str]]:
     """The calibration data ``benchmarks/calibration.py --save`` wrote: one row per floor, its
     ``spec`` named, every other column a number."""
     with path.open(newline="") as stream:
         return [{k: v if k == "spec" else float(v) for k, v in row.items()} for row in csv.DictReader(stream)]
+
+
+FOLDS = 10
+"""Held-out R² is cross-validated over this many folds of floors."""
+
+VERSION_1_LEVELS = {"easy": (0.0, 10.0), "medium": (10.0, 25.0), "hard": (25.0, 100.0)}
+"""The levels of version 1 of the score, before version 2 re-set them (docs/difficulty.md, "Levels")."""
+
+
+def correlations(data: list[dict[str, float | str]], seed: int) -> list[dict[str, float | str]]:
+    """The table of docs/difficulty.md's calibration: one row per controller of
+    :data:`TARGET_CONTROLLERS`, then one for their mean (``controller`` ``"mean"``), each with
+    Spearman's ρ of version 1 and 2 of the score and of each metric with the measured difficulty
+    (``rho_v1``, ``rho_v2``, ``rho_<metric>``) and the held-out R² (:data:`FOLDS` folds by floor,
+    drawn with ``seed``) of version 1, of version 2 and of version 2's model refitted on each
+    training fold (``r2_v1``, ``r2_v2``, ``r2_refit``)."""
+    table, _ = metric_table(data)
+    features = score_features(data)
+    scores = {version: data_scores(data, version) for version in (1, 2)}
+    fold = folds(len(data), FOLDS, seed)
+    rows: list[dict[str, float | str]] = []
+    for name in (*TARGET_CONTROLLERS, "mean"):
+        target = measured_target(data, TARGET_CONTROLLERS if name == "mean" else (name,))
+        rows.append(
+            {"controller": name}
+            | {f"rho_v{version}": spearman(score, target) for version, score in scores.items()}
+            | {f"rho_{metric}": spearman(table[:, m], target) for m, metric in enumerate(METRICS)}
+            | {f"r2_v{version}": held_out_r_squared(score, target, fold) for version, score in scores.items()}
+            | {"r2_refit": r_squared(target, held_out_predictions(features, target, fold))}
+        )
+    return rows
+
+
+def controller_agreement(data: list[dict[str, float | str]]) -> dict[tuple[str, str], float]:
+    """Spearman's ρ between the measured difficulties of each pair of :data:`TARGET_CONTROLLERS`."""
+    return {
+        (a, b): spearman(measured_target(data, (a,)), measured_target(data, (b,)))
+        for a, b in itertools.combinations(TARGET_CONTROLLERS, 2)
+    }
+
+
+def arrivals(data: list[dict[str, float | str]]) -> dict[str, float]:
+    """Per controller of :data:`TARGET_CONTROLLERS`, the fraction of all starts it arrived from
+    (the data's ``arrived_<controller>``: the fraction of each floor's starts, as many per floor)."""
+    return {
+        name: float(np.mean([float(row[f"arrived_{name}"]) for row in data])) for name in TARGET_CONTROLLERS
+    }
+
+
+def version_1_levels(data: list[dict[str, float | str]]) -> dict[str, tuple[int, float]]:
+    """Per level of :data:`VERSION_1_LEVELS`, how many floors of the data version 1 puts in it and
+    their median version 2 score."""
+    version_1, version_2 = data_scores(data, 1), data_scores(data, 2)
+    levels = {}
+    for level, (low, high) in VERSION_1_LEVELS.items():
+        inside = (version_1 >= low) & (version_1 < high)
+        levels[level] = (int(inside.sum()), float(np.median(version_2[inside])))
+    return levels
