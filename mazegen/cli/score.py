@@ -43,12 +43,14 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
     names = controller_names(controllers) if controllers else None
     from mazegen.dsl.loader import load_spec
     from mazegen.runtime import SCORE_KERNELS
-    from mazegen.runtime.documents.driving import spec_controllers
+    from mazegen.runtime.documents.driving import driving_robot, spec_controllers
     from mazegen.runtime.documents.scoring import Scorer
     from mazegen.runtime.runs.progress import QuietReporter, note_first_compile
 
     resolved = load_spec(spec)
     names = spec_controllers(resolved) if names is None else names
+    if names:
+        driving_robot(resolved, str(spec))
     files = scenario_files(scenarios)
     note_first_compile(QuietReporter(), kernels=SCORE_KERNELS)  # on standard error, as every note
     scored: list[Scored] = []
