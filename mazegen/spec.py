@@ -21,6 +21,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+from mazegen.errors import MazeError
 from mazegen.fileio import json_value
 
 Point = tuple[float, float]
@@ -207,9 +208,28 @@ ROBOT_RADIUS_METRES = 0.25
 """The radius of the robot the default limits are for (a Clearpath Jackal, as in the BARN challenge)."""
 
 
+def unsized_problem(arena: Arena) -> str | None:
+    """Why a robot cannot be sized on ``arena`` (a ``px`` arena without a robot radius), or None."""
+    if arena.unit in METRES_PER_UNIT or arena.robot_radius > 0:
+        return None
+    return (
+        f"arena '{arena.name}' is in px with no robot radius: give it one ('robot radius 25'), "
+        "which sizes the driven robot"
+    )
+
+
 def metres_per_unit(arena: Arena) -> float:
-    """Metres in one arena unit: the unit's size, or for ``px`` the robot taken as Jackal-sized."""
-    return METRES_PER_UNIT.get(arena.unit, ROBOT_RADIUS_METRES / arena.robot_radius)
+    """Metres in one arena unit: the unit's size, or for ``px`` the robot taken as Jackal-sized.
+
+    Raises:
+        MazeError: for a ``px`` arena without a robot radius (:func:`unsized_problem`).
+    """
+    if arena.unit in METRES_PER_UNIT:
+        return METRES_PER_UNIT[arena.unit]
+    problem = unsized_problem(arena)
+    if problem is not None:
+        raise MazeError(problem)
+    return ROBOT_RADIUS_METRES / arena.robot_radius
 
 
 @dataclass(frozen=True)

@@ -14,13 +14,14 @@ import importlib.metadata
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NoReturn
 
 import click
 
 from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
+from mazegen.policies import is_policy_path, malformed_path
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents.driving import Drive, Floors, Summary
@@ -33,7 +34,8 @@ ENTRY_POINTS = "mazegen.controllers"
 
 def controller_names(given: Sequence[str]) -> list[str]:
     """The controllers of ``--controller`` options (each one name or a comma-separated list), in
-    order, each once; an unknown one is one line naming the known ones and exit status 2.
+    order, each once; an unknown one, or a malformed policy's path, is one line (naming the known
+    ones) and exit status 2.
 
     A name is known when it is bundled, a dotted path ``package.module:name`` to a user's
     policy (loaded when it drives), or registered by an installed package.
@@ -41,16 +43,21 @@ def controller_names(given: Sequence[str]) -> list[str]:
     names = list(dict.fromkeys(name.strip() for text in given for name in text.split(",") if name.strip()))
     registered = {point.name for point in importlib.metadata.entry_points(group=ENTRY_POINTS)}
     for name in names:
+        if ":" in name and not is_policy_path(name):
+            _usage_error(malformed_path(name))
         if name not in BUNDLED and ":" not in name and name not in registered:
             known = ", ".join(sorted({*BUNDLED, *registered}))
-            click.echo(
-                f"unknown controller {name!r}: known are {known}, or a user's policy as package.module:name",
-                err=True,
+            _usage_error(
+                f"unknown controller {name!r}: known are {known}, or a user's policy as package.module:name"
             )
-            raise SystemExit(2)
     if not names:
         raise MazeError("--controller names no controller")
     return names
+
+
+def _usage_error(message: str) -> NoReturn:
+    click.echo(message, err=True)
+    raise SystemExit(2)
 
 
 controller_option = click.option(
@@ -135,15 +142,17 @@ def _load_spec(path: Path | None) -> Spec | None:
 
 
 def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[list[Floor], bool]:
-    """Each scenario file read, completed from its spec and checked against it; one that cannot be
-    is reported on one line and left out (a lone file's error ends the command)."""
+    """Each scenario file read, completed from its spec and checked against it (a robot can be sized on
+    its arena); one that cannot be is reported on one line and left out (a lone file's error ends
+    the command)."""
+    from mazegen.runtime.documents.driving import driving_robot
     from mazegen.runtime.exporters.floor import load_floor
 
     floors, failed = [], False
     for path, _ in files:
         try:
             floor = load_floor(path, spec)
-            floor.needs_spec("driving")
+            driving_robot(floor.needs_spec("driving"), floor.where)
             floor.population  # noqa: B018 - builds it, checking every element against the spec
         except MazeError as error:
             skip_file(error, alone=len(files) == 1)
@@ -222,15 +231,19 @@ def summary_table(found: Sequence[Summary]) -> str:
 
 def _write(floors: list[Floor], drives: list[list[Drive]], subfolders: dict[Path, Path], out: Path) -> None:
     """Each driven document and its picture into ``out``, at the source's relative place, each
-    written whole or not at all."""
+    written whole or not at all; every document is made before any is written, so one that cannot
+    be leaves every file as it was."""
     from mazegen.fileio import write_atomic
     from mazegen.runtime.documents.driving import with_drives
     from mazegen.runtime.documents.scenario import dumps
     from mazegen.runtime.reports.render import render_file
 
+    made = []
     for floor, row in zip(floors, drives):
         target = out / subfolders[floor.source] / floor.source.name
         document = with_drives(floor.document, row)
-        write_atomic(target, dumps(document))
+        made.append((target, document, dumps(document, str(target))))
+    for target, document, text in made:
+        write_atomic(target, text)
         render_file(document, target.with_suffix(".svg"))
     click.echo(f"wrote {len(floors)} scenarios and their pictures to {out}", err=True)

@@ -43,11 +43,13 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
     names = controller_names(controllers) if controllers else None
     from mazegen.dsl.loader import load_spec
     from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
-    from mazegen.runtime.documents.driving import spec_controllers
+    from mazegen.runtime.documents.driving import driving_robot, spec_controllers
     from mazegen.runtime.documents.scoring import Scorer
 
     resolved = load_spec(spec)
     names = spec_controllers(resolved) if names is None else names
+    if names:
+        driving_robot(resolved, str(spec))
     files = scenario_files(scenarios)
     scored: list[Scored] = []
     failed = False

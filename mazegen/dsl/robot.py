@@ -16,7 +16,16 @@ from typing import Any
 from mazegen.controllers import ANGLE, BUNDLED, LENGTH, SPEED, TIME, TURN, Parameter
 from mazegen.dsl.bounds import MAX_LENGTH, MAX_TARGET
 from mazegen.dsl.located import fail, single_properties, suggestion, where
-from mazegen.spec import Arena, ControllerSpec, FitnessTerm, Robot, metres_per_unit, robot_for
+from mazegen.policies import SEARCHED, malformed_path, policy_module_found
+from mazegen.spec import (
+    Arena,
+    ControllerSpec,
+    FitnessTerm,
+    Robot,
+    metres_per_unit,
+    robot_for,
+    unsized_problem,
+)
 
 ENTRY_POINT_GROUP = "mazegen.controllers"
 """Where an installed package registers controllers by name."""
@@ -99,14 +108,14 @@ def registered_controllers() -> list[str]:
 
 def check_controller_name(node: Any, name: str) -> None:
     """Fail at ``node`` unless ``name`` is bundled, registered, or a policy's path (``pkg.mod:name``,
-    imported when the robot is driven)."""
+    whose module :func:`convert_robot` looks for)."""
     if name in BUNDLED or ":" in name:
         return
     registered = registered_controllers()
     if name in registered:
         return
     if "." in name:
-        fail(node, f"a policy's path reads package.module:name, got '{name}'")
+        fail(node, malformed_path(name))
     known = [*BUNDLED, *registered]
     fail(
         node,
@@ -115,10 +124,15 @@ def check_controller_name(node: Any, name: str) -> None:
     )
 
 
+def _term_controllers(term: Any) -> tuple[str, ...]:
+    """The controllers a drive term names, as written."""
+    return tuple(term.controllers) if term.controller is None else (term.controller,)
+
+
 def drive_controllers(term: Any) -> tuple[str, ...]:
     """The controllers a drive term reads, checked against its measure and its target range."""
     pair = term.controller is None  # written 'controllers A, B'
-    names = tuple(term.controllers) if pair else (term.controller,)
+    names = _term_controllers(term)
     for name in names:
         check_controller_name(term, name)
     if term.measure in _PAIR_MEASURES:
@@ -214,18 +228,18 @@ def _controllers(
     return tuple(controllers)
 
 
-def convert_robot(decl: Any | None, arena: Arena, terms: tuple[FitnessTerm, ...], near: Any) -> Robot | None:
+def convert_robot(
+    decl: Any | None, arena: Arena, terms: tuple[FitnessTerm, ...], fitness: Any | None
+) -> Robot | None:
     """The spec's robot: its block over :func:`robot_for`'s defaults, or those alone when a fitness
-    term drives it; None when neither (``near``: where to report a robot the arena cannot size)."""
+    term drives it; None when neither (``fitness``: the fitness block, whose drive terms name
+    controllers too)."""
     drives = [term for term in terms if term.kind == "drive"]
     if decl is None and not drives:
         return None
-    if arena.unit == "px" and arena.robot_radius == 0:
-        fail(
-            decl if decl is not None else near,
-            f"arena '{arena.name}' is in px with no robot radius: give it one ('robot radius 25'), "
-            "which sizes the driven robot",
-        )
+    unsized = unsized_problem(arena)
+    if unsized is not None:
+        fail(decl if decl is not None else fitness, unsized)
     props = [] if decl is None else list(decl.properties)
     blocks = [prop for prop in props if type(prop).__name__ == "ControllerProperty"]
     single = single_properties([p for p in props if p not in blocks], "robot", labels=_LABELS)
@@ -242,7 +256,25 @@ def convert_robot(decl: Any | None, arena: Arena, terms: tuple[FitnessTerm, ...]
     if robot.min_speed > robot.max_speed:
         node = single.get("MinSpeedLimit") or single["SpeedLimit"]
         fail(node, f"min speed {robot.min_speed:g} is above the speed {robot.max_speed:g}")
-    return dataclasses.replace(robot, controllers=_controllers(blocks, terms, arena))
+    controllers = _controllers(blocks, terms, arena)
+    _check_policies_found(blocks, [] if fitness is None else fitness.terms)
+    return dataclasses.replace(robot, controllers=controllers)
+
+
+def _check_policies_found(blocks: list[Any], term_nodes: list[Any]) -> None:
+    """Fail where a policy whose module is not found is first named: its robot block's controller,
+    else its first drive term (the module is imported when the robot is first driven)."""
+    named = [(prop, prop.name) for prop in blocks]
+    drives = [node for node in term_nodes if type(node).__name__ == "DriveTerm"]
+    named += [(node, name) for node in drives for name in _term_controllers(node)]
+    looked_for = set()
+    for node, name in named:
+        module = name.partition(":")[0]
+        if ":" not in name or module in looked_for:
+            continue
+        looked_for.add(module)
+        if not policy_module_found(module):
+            fail(node, f"controller '{name}': no module '{module}' in {SEARCHED}")
 
 
 def _fraction(node: Any) -> float:

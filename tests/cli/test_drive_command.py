@@ -15,6 +15,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import jsonschema
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
@@ -281,3 +282,77 @@ def test_a_drive_that_compiles_says_so_once_and_one_that_does_not_says_nothing(s
     assert quiet.exit_code == 0 and noted.exit_code == 0 and quiet.stdout == noted.stdout
     assert compile_note("drive", DRIVE_SECONDS) not in quiet.stderr
     assert noted.stderr.count(compile_note("drive", DRIVE_SECONDS)) == 1
+
+
+def test_a_run_whose_arena_gives_no_robot_radius_drives_the_default_robot(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    pointlike = dataclasses.replace(spec, arena=dataclasses.replace(spec.arena, robot_radius=0.0))
+    (suite / "spec.json").write_text(pointlike.to_json(), encoding="utf-8")
+    result = invoke(str(suite), "-c", "dwa", "--json")
+    assert result.exit_code == 0, result.output
+    assert fake.calls[0][2] == robot_for(pointlike.arena) and fake.calls[0][2].max_speed == 50
+
+
+def test_a_px_arena_without_a_robot_radius_is_one_line_per_file_and_nothing_is_driven(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    canvas = dataclasses.replace(spec, arena=dataclasses.replace(spec.arena, unit="px", robot_radius=0.0))
+    (suite / "spec.json").write_text(canvas.to_json(), encoding="utf-8")
+    result = invoke(str(suite), "-c", "dwa")
+    assert result.exit_code == 1 and fake.calls == [] and result.stdout == ""
+    assert result.stderr.splitlines() == [
+        f"{suite / f'scenario-0{n}.json'}: arena 'floor' is in px with no robot radius: give it one "
+        "('robot radius 25'), which sizes the driven robot"
+        for n in (1, 2, 3)
+    ]
+
+
+def test_score_of_a_px_arena_without_a_robot_radius_names_the_spec(tmp_path, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    spec = tmp_path / "canvas.maze"
+    spec.write_text(
+        "element box { shape square size 20..40 }\n"
+        "arena canvas { size 900 x 900 px start (50, 50) goal (850, 850) }\n"
+        "scenario s on canvas { elements box }\n",
+        encoding="utf-8",
+    )
+    floor = tmp_path / "floor.json"
+    floor.write_text(
+        json.dumps({"format": "mazegen-scenario", "version": 1, "scenario": "s", "elements": []})
+    )
+    result = CliRunner().invoke(main, ["score", str(spec), str(floor), "-c", "dwa"], catch_exceptions=False)
+    assert result.exit_code == 1 and fake.calls == []
+    assert result.stderr.splitlines() == [
+        f"{spec}: arena 'canvas' is in px with no robot radius: give it one ('robot radius 25'), "
+        "which sizes the driven robot"
+    ]
+
+
+def test_a_drive_with_a_non_finite_number_writes_no_file_and_says_which_field(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    import mazegen.runtime.simulation as simulation
+
+    def broken(*args, **kwargs):
+        episodes = fake(*args, **kwargs)
+        return dataclasses.replace(episodes, time=np.where(np.arange(episodes.time.size) == 1, np.nan, 1.0))
+
+    monkeypatch.setattr(simulation, "drive", broken)
+    before = {path.name: path.read_bytes() for path in suite.iterdir()}
+    result = invoke(str(suite), "-c", "dwa", "-o", str(suite))  # in place
+    assert result.exit_code == 1
+    assert result.stderr.splitlines()[-1] == (
+        f"{suite / 'scenario-03.json'}: drive.dwa.time is nan: a scenario file holds finite numbers only"
+    )
+    assert {path.name: path.read_bytes() for path in suite.iterdir()} == before
+
+
+@pytest.mark.parametrize("name", [":x", ":", ".x:y", "x..y:z", "x:y:z", "math:"])
+def test_a_malformed_policy_path_is_one_line_before_anything_is_read(tmp_path, monkeypatch, name):
+    fake = fake_drive(monkeypatch)
+    bad = tmp_path / "bad.json"
+    bad.write_text("{not json")
+    for command in (["drive", str(bad)], ["score", str(EXAMPLES / "factory.maze"), str(bad)]):
+        result = CliRunner().invoke(main, [*command, "-c", f"dwa,{name}"], catch_exceptions=False)
+        assert result.exit_code == 2 and fake.calls == []
+        assert result.stderr.splitlines() == [f"a policy's path reads package.module:name, got '{name}'"]

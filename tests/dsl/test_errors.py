@@ -585,6 +585,22 @@ BAD_SPECS = [
         "controller 'pkg.mod:policy' is not bundled: its parameters are its own",
     ),
     (
+        "robot: a policy whose module is not found, at the robot block before the term",
+        spec(
+            tail="robot { controller nosuch_policy_module:policy { } }\n"
+            "fitness { controller nosuch_policy_module:policy fails }\n"
+        ),
+        "4:9",
+        "controller 'nosuch_policy_module:policy': no module 'nosuch_policy_module' in the current folder, "
+        "PYTHONPATH or the installed packages",
+    ),
+    (
+        "drive term: a policy whose module is not in its package",
+        spec(tail="fitness { count controllers dwa, json.nosuch:policy disagree }\n"),
+        "4:17",
+        "controller 'json.nosuch:policy': no module 'json.nosuch' in the current folder",
+    ),
+    (
         "robot: unknown controller parameter",
         spec(tail="robot { controller dwa { horizn 2 } }\n"),
         "4:26",

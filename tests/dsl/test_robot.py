@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import sys
 from types import SimpleNamespace
 
 import pytest
@@ -92,10 +93,22 @@ def test_the_robot_survives_spec_json(write_spec):
     assert again.robot is not None and again.robot.controllers[0].params == spec.robot.controllers[0].params
 
 
-def test_a_policys_path_is_accepted_unchecked(write_spec):
+def test_a_policys_module_is_found_not_imported(write_spec, tmp_path, monkeypatch):
+    (tmp_path / "my").mkdir()
+    (tmp_path / "my" / "pkg.py").write_text("raise RuntimeError('imported when read')\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
     spec = load_spec(write_spec(HEAD + "fitness { controllers my.pkg:policy, dwa disagree }\n"))
     assert spec.fitness[0].key == "my_pkg_policy_dwa_disagree"
     assert spec.robot is not None and spec.robot.controllers[0] == ControllerSpec("my.pkg:policy")
+
+
+def test_a_policys_module_is_found_in_the_current_folder(write_spec, tmp_path, monkeypatch):
+    """As ``python -m`` finds it, though the ``mazegen`` command's path holds its script's folder."""
+    (tmp_path / "here_policy.py").write_text("def policy(observations): ...\n")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "path", [entry for entry in sys.path if entry not in ("", str(tmp_path))])
+    spec = load_spec(write_spec(HEAD + "robot { controller here_policy:policy { } }\n"))
+    assert spec.robot is not None and spec.robot.controllers == (ControllerSpec("here_policy:policy"),)
 
 
 def test_a_controller_a_package_registers_is_known(write_spec, monkeypatch):
@@ -124,3 +137,17 @@ def test_every_bundled_parameter_at_its_default_is_accepted(write_spec, name):
     robot = load_spec(write_spec(text)).robot
     assert robot is not None
     assert [key for key, _ in robot.controller(name).params] == [p.name for p in BUNDLED[name].parameters]
+
+
+NO_RADIUS = HEAD.replace(" robot radius 20", "")
+
+
+@pytest.mark.parametrize("tail", ["robot { }\n", "fitness { controller dwa fails }\n"])
+def test_an_arena_in_cm_without_a_robot_radius_drives_the_default_robot(write_spec, tail):
+    """Only a px arena is sized by its robot: a cm one without a radius has the Jackal's limits in cm."""
+    from mazegen.runtime.simulation._choice import bundled_params
+
+    spec = load_spec(write_spec(NO_RADIUS + tail))
+    assert spec.arena.robot_radius == 0
+    assert spec.robot_or_default.max_speed == pytest.approx(50)  # BARN's 0.5 m/s in centimetres
+    assert bundled_params("dwa", (), spec.arena)[6] == pytest.approx(30)  # inflation 0.3 m

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import re
 
+import pytest
+
 from mazegen.dsl.loader import load_spec
 from mazegen.generator.build import build, render_artifacts
 from tests.conftest import ROOT
@@ -24,6 +26,14 @@ fitness {
 }
 """
 )
+
+
+@pytest.fixture(autouse=True)
+def _policy_module(tmp_path, monkeypatch):
+    """``my.package``, the module of the policy DRIVING names: a spec names only policies it finds."""
+    (tmp_path / "my").mkdir()
+    (tmp_path / "my" / "package.py").write_text("def policy(observations): ...\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
 
 
 def test_drive_terms_choose_who_is_driven_after_the_static_terms(write_spec):

@@ -197,6 +197,23 @@ def test_a_run_of_a_driving_spec_waits_for_the_simulators_kernels(driving, tmp_p
     assert run_kernels(policy) == (*EVERY_RUN_KERNELS, POLICY_KERNEL)
 
 
+def test_a_policy_a_build_cannot_find_is_said_as_the_simulator_says_it_not_as_fitness_py(driving, tmp_path):
+    """A build's spec.json is not read by the language, which would have named the spec's line."""
+    from mazegen.errors import MazeError
+    from mazegen.generator.build import build
+    from mazegen.runtime.engine.problem import Problem
+
+    term = FitnessTerm("drive", metric="fails", controllers=("nosuch_policy_module:policy",))
+    build(dataclasses.replace(driving.spec, fitness=(term,)), tmp_path)
+    problem = Problem.from_build_dir(tmp_path)
+    with pytest.raises(MazeError) as raised:
+        problem.score(decoded(problem, 24))
+    assert str(raised.value) == (
+        "controller nosuch_policy_module:policy: cannot load it (No module named 'nosuch_policy_module'): "
+        "a policy's module is looked for in the current folder, PYTHONPATH or the installed packages"
+    )
+
+
 def test_the_first_run_says_it_compiles_when_only_the_simulator_is_missing(driving, monkeypatch, capsys):
     import mazegen.runtime
     from mazegen.cli.launching import compile_first

@@ -259,5 +259,6 @@ def write_suite(
         write_atomic(stage / "archive.json", json_text(record))
         write_atomic(stage / "archive.png", archive_heatmap(archive, chosen, problem.spec.name))
         for number, document in enumerate(documents, start=1):
-            write_atomic(stage / f"scenario-{number:02d}.json", dumps(document))
+            name = f"scenario-{number:02d}.json"
+            write_atomic(stage / name, dumps(document, str(out_dir / name)))
             write_atomic(stage / f"scenario-{number:02d}.svg", scenario_svg(document))

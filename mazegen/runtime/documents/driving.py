@@ -16,12 +16,13 @@ from typing import Any
 
 import numpy as np
 
+from mazegen.errors import MazeError
 from mazegen.runtime.documents.scenario import DIGITS, population_from_documents
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.geometry.elements import ElementTable
 from mazegen.runtime.navigation.measures import navigation_of
 from mazegen.runtime.simulation import ARRIVED, NO_PATH, OUTCOMES, Episodes
-from mazegen.spec import Robot, Spec
+from mazegen.spec import Robot, Spec, unsized_problem
 
 
 def _round(value: float) -> float:
@@ -195,6 +196,18 @@ class Floors:
             for row, index in enumerate(indices.tolist()):
                 drives[index][column] = episode_drive(self.files[index], episodes, row, scores)
         return drives
+
+
+def driving_robot(spec: Spec, filename: str) -> Robot:
+    """The robot that drives under ``spec`` (:attr:`Spec.robot_or_default`).
+
+    Raises:
+        MazeError: naming ``filename``, for a ``px`` arena with no robot radius to size the robot.
+    """
+    problem = unsized_problem(spec.arena)
+    if problem is not None:
+        raise MazeError(problem, filename=filename)
+    return spec.robot_or_default
 
 
 def spec_controllers(spec: Spec) -> list[str]:

@@ -131,9 +131,40 @@ def scenario_document(
     }
 
 
-def dumps(document: dict[str, Any]) -> str:
-    """Deterministic JSON text of a document."""
-    return json.dumps(document, indent=1, sort_keys=False) + "\n"
+def dumps(document: dict[str, Any], filename: str) -> str:
+    """Deterministic JSON text of a document, to be written as ``filename``: every scenario file is
+    made here, so none holds what its readers refuse.
+
+    Raises:
+        MazeError: naming ``filename`` and the field, for a NaN or an infinity (JSON has neither).
+    """
+    try:
+        return json.dumps(document, indent=1, sort_keys=False, allow_nan=False) + "\n"
+    except ValueError:
+        found = _non_finite(document, "")
+        if found is None:  # not a number's fault (a circular reference): a bug, not the user's
+            raise
+        field, value = found
+        raise MazeError(
+            f"{field} is {value}: a scenario file holds finite numbers only", filename=filename
+        ) from None
+
+
+def _non_finite(value: Any, where: str) -> tuple[str, float] | None:
+    """The JSON path (``drive.dwa.time``) and value of the first non-finite number in ``value``, or None."""
+    if isinstance(value, float):
+        return None if math.isfinite(value) else (where, value)
+    if isinstance(value, dict):
+        items = [(f"{where}.{key}" if where else str(key), item) for key, item in value.items()]
+    elif isinstance(value, (list, tuple)):
+        items = [(f"{where}[{index}]", item) for index, item in enumerate(value)]
+    else:
+        return None
+    for path, item in items:
+        found = _non_finite(item, path)
+        if found is not None:
+            return found
+    return None
 
 
 def _require(item: dict[str, Any], keys: tuple[str, ...], where: str, filename: str) -> None:

@@ -286,9 +286,12 @@ class Problem:
 def _call_fitness(module: ModuleType, name: str, population: Population) -> Any:
     """``module.name(population)``; an exception raised through the module's own lines becomes a
     one-line error at the last of them (the module runs from a worker's copy, so it is named
-    ``fitness.py`` alone)."""
+    ``fitness.py`` alone). A :class:`MazeError` is already one line about what the user gave (a
+    policy the simulator cannot load), which ``fitness.py`` did not cause: it passes as it is."""
     try:
         return getattr(module, name)(population)
+    except MazeError:
+        raise
     except Exception as error:
         lines = [
             line

@@ -27,7 +27,8 @@ Files = dict[str, bytes]
 
 def json_files(floor: Floor, options: ExportOptions) -> Files:
     """``NAME.json``: the scenario document, MazeGen's canonical format."""
-    return {f"{floor.name}.json": dumps(floor.document).encode("utf-8")}
+    name = f"{floor.name}.json"
+    return {name: dumps(floor.document, name).encode("utf-8")}
 
 
 def svg_files(floor: Floor, options: ExportOptions) -> Files:

@@ -194,7 +194,8 @@ def run_files(result: RunResult, documents: tuple[dict[str, Any], ...]) -> dict[
     """
     files: dict[str, bytes] = {}
     for rank, document in enumerate(documents, start=1):
-        files[f"best-{rank:02d}.json"] = dumps(document).encode("utf-8")
+        name = f"best-{rank:02d}.json"
+        files[name] = dumps(document, name).encode("utf-8")
         files[f"best-{rank:02d}.svg"] = scenario_svg(document).encode("utf-8")
     arrays = {"codons": result.codons, "placement": result.genes, "fitness": result.fitness}
     files["population.npz"] = npz_bytes(arrays)

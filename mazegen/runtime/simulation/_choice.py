@@ -9,7 +9,6 @@ bundled controller's parameters are its defaults (SI, lengths scaled to the aren
 
 from __future__ import annotations
 
-import importlib
 import importlib.metadata
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -19,6 +18,7 @@ import numpy as np
 
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
+from mazegen.policies import SEARCHED, import_policy_module, is_policy_path, malformed_path
 from mazegen.runtime.simulation._loop import CODES
 from mazegen.spec import Arena, ControllerSpec, Robot, metres_per_unit
 
@@ -104,16 +104,23 @@ def bundled_params(name: str, overrides: tuple[tuple[str, float], ...], arena: A
 
 
 def load_policy(name: str) -> Callable[[Any], Any]:
-    """The policy called ``name``: a dotted path ``package.module:attribute``, or a name an installed
-    package registers under the ``mazegen.controllers`` entry point group."""
+    """The policy called ``name``: a dotted path ``package.module:attribute`` (its module looked for in
+    :data:`mazegen.policies.SEARCHED`), or a name an installed package registers under the
+    ``mazegen.controllers`` entry point group."""
     if ":" in name:
-        module_name, _, attribute = name.partition(":")
+        if not is_policy_path(name):
+            raise MazeError(malformed_path(name))
+        module, _, attribute = name.partition(":")
         try:
-            found: Any = importlib.import_module(module_name)
+            found: Any = import_policy_module(module)
             for part in attribute.split("."):
                 found = getattr(found, part)
-        except (ImportError, AttributeError) as error:
-            raise MazeError(f"controller {name}: cannot load it ({error})") from error
+        except ModuleNotFoundError as error:  # the policy's module, or one it imports
+            missing = error.name is not None and f"{module}.".startswith(f"{error.name}.")
+            searched = f": a policy's module is looked for in {SEARCHED}" if missing else ""
+            raise MazeError(f"controller {name}: cannot load it ({error}){searched}") from error
+        except (Exception, SystemExit) as error:  # the user's module: its failure said in one line
+            raise MazeError(f"controller {name}: cannot load it ({type(error).__name__}: {error})") from error
     else:
         points = [p for p in importlib.metadata.entry_points(group=ENTRY_POINTS) if p.name == name]
         if not points:
@@ -124,7 +131,7 @@ def load_policy(name: str) -> Callable[[Any], Any]:
             )
         try:
             found = points[0].load()
-        except Exception as error:  # a broken package: its own error, said in one line
+        except (Exception, SystemExit) as error:  # a broken package: its own error, said in one line
             raise MazeError(
                 f"controller {name}: its entry point {points[0].value} fails to load ({error})"
             ) from error

@@ -3,8 +3,9 @@
 Between calls, two compiled kernels run over the active robots: one gathers the
 :class:`Observations` (lidar, goal in the robot frame, velocity), the other applies the returned
 actions through the same step as the bundled controllers
-(:func:`mazegen.runtime.simulation._step.advance`). A policy that raises, returns the wrong shape
-or a non-finite action ends the drive with one line naming the controller, the step and the floor.
+(:func:`mazegen.runtime.simulation._step.advance`). A policy that raises (or exits), returns the
+wrong shape, numbers that are not real, or a non-finite action ends the drive with one line naming
+the controller, the step and the floor.
 """
 
 from __future__ import annotations
@@ -84,7 +85,17 @@ def _observe(
     lidar = (run.angles, run.reach, run.world.arrays, most)
     in_blocks(_observe_kernel, n, active, state, run.goal, *lidar, ranges, goal)
     velocity = state[active][:, [V, W]]
-    return Observations(ranges, run.angles, goal, velocity, step, rows[active], run.limits)
+    return Observations(
+        ranges, _read_only(run.angles), goal, velocity, step, rows[active], _read_only(run.limits)
+    )
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """A read-only copy of an array the simulator reads: a policy that writes into it is told so,
+    and whatever it does to the copy never reaches the episodes."""
+    copy = array.copy()
+    copy.flags.writeable = False
+    return copy
 
 
 def _actions(
@@ -93,13 +104,19 @@ def _actions(
     n = observations.floor.size
     where = f"controller {name} at step {step}"
     try:
-        actions = np.asarray(policy(observations), np.float64)
-    except Exception as error:  # the user's code: any failure is theirs, said in one line
+        returned = np.asarray(policy(observations))
+    except (Exception, SystemExit) as error:  # the user's code: any failure is theirs, said in one line
         floors = observations.floor
         raise MazeError(
             f"{where} (floors {floors[0]}{'...' if n > 1 else ''}, {n} driving) raised "
             f"{type(error).__name__}: {error}"
         ) from error
+    if returned.dtype.kind not in "biuf":  # complex, text, objects: no (v, w) without a guess
+        raise MazeError(
+            f"{where} on floor {observations.floor[0]}: returned actions of type {returned.dtype}, "
+            "expected real numbers"
+        )
+    actions = returned.astype(np.float64)
     if actions.shape != (n, 2):
         raise MazeError(
             f"{where} on floor {observations.floor[0]}: returned actions of shape {actions.shape}, "

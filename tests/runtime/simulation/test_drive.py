@@ -143,6 +143,10 @@ def test_a_drive_is_the_same_whatever_the_thread_count():
         (ControllerSpec("nosuch.module:policy", (("x", 1.0),)), "is a user's policy: it takes no parameters"),
         ("nosuch_module_xyz:policy", "controller nosuch_module_xyz:policy: cannot load it (No module named"),
         ("math:pi", "controller math:pi is not callable"),
+        (":x", "a policy's path reads package.module:name, got ':x'"),
+        (".x:y", "a policy's path reads package.module:name, got '.x:y'"),
+        ("x..y:z", "a policy's path reads package.module:name, got 'x..y:z'"),
+        ("math:", "a policy's path reads package.module:name, got 'math:'"),
     ],
 )
 def test_a_bad_controller_is_one_line(controller, message):

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -80,6 +81,10 @@ def raises(observations):
     raise ValueError("no idea where to go")
 
 
+def exits(observations):
+    raise SystemExit(3)
+
+
 @pytest.mark.parametrize(
     ("policy", "message"),
     [
@@ -96,14 +101,36 @@ def raises(observations):
             lambda o: np.where(o.floor[:, None] == 1, np.nan, 1.0) * np.ones((1, 2)),
             r"^controller <lambda> at step 0 on floor 1: returned a non-finite",
         ),
+        (exits, r"^controller exits at step 0 \(floors 0\.\.\., 2 driving\) raised SystemExit: 3$"),
+        (
+            lambda o: np.ones((o.floor.size, 2)) * (1 + 1j),
+            r"^controller <lambda> at step 0 on floor 0: returned actions of type complex128, expected real",
+        ),
+        (
+            lambda o: [["fast", "left"]] * o.floor.size,
+            r"^controller <lambda> at step 0 on floor 0: returned actions of type <U4, expected real",
+        ),
     ],
 )
 def test_a_failing_policy_is_one_line_naming_the_controller_step_and_floor(policy, message):
-    with pytest.raises(MazeError, match=message) as raised:
-        drive(population(ARENA, [[], []]), robot=robot_for(ARENA, beams=8), controller=policy)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # said in the one line, not in a warning beside it
+        with pytest.raises(MazeError, match=message) as raised:
+            drive(population(ARENA, [[], []]), robot=robot_for(ARENA, beams=8), controller=policy)
     assert "\n" not in str(raised.value)
     if policy is raises:
         assert isinstance(raised.value.__cause__, ValueError)
+
+
+@pytest.mark.parametrize("field", ["limits", "angles"])
+def test_a_policy_cannot_write_into_what_the_simulator_reads(field):
+    def vandal(observations):
+        getattr(observations, field)[:] = np.nan
+        return np.zeros((observations.floor.size, 2))
+
+    floors, robot = population(ARENA, [[], []]), robot_for(ARENA, beams=8)
+    with pytest.raises(MazeError, match=r"^controller vandal at step 0 .* raised ValueError: .*read-only"):
+        drive(floors, robot=robot, controller=vandal)
 
 
 def test_the_gap_seeking_example_drives_floors(monkeypatch):
@@ -113,6 +140,22 @@ def test_the_gap_seeking_example_drives_floors(monkeypatch):
     assert episodes.controller == "gap_seeking:policy"
     assert episodes.outcome[0] == ARRIVED and episodes.outcome[1] == ARRIVED
     assert episodes.clearance[1] > 0
+
+
+def test_a_policy_path_is_found_in_the_current_folder(tmp_path, monkeypatch):
+    """As ``python -m`` finds it, though the ``mazegen`` command's path holds its script's folder."""
+    (tmp_path / "forward_here.py").write_text(
+        "import numpy as np\n\n"
+        "def policy(observations):\n"
+        "    return np.tile([observations.limits[0], 0.0], (observations.floor.size, 1))\n"
+    )
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "path", [entry for entry in sys.path if entry not in ("", str(tmp_path))])
+    monkeypatch.delitem(sys.modules, "forward_here", raising=False)
+    episodes = drive(
+        population(ARENA, [[]]), robot=robot_for(ARENA, beams=0), controller="forward_here:policy"
+    )
+    assert episodes.outcome[0] == ARRIVED
 
 
 def test_a_package_registers_a_policy_under_the_entry_point_group(tmp_path, monkeypatch):
