@@ -27,7 +27,6 @@ import tempfile
 import time
 from pathlib import Path
 
-import numba
 import numpy as np
 from common import ROOT, markdown_table, median_seconds
 
@@ -36,6 +35,7 @@ sys.path.insert(0, str(ROOT))  # the oracle's floors and replay live with its te
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.exporters.floor import METRES_PER_UNIT
 from mazegen.runtime.simulation import NO_PATH, Observations, drive
+from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import Robot, robot_for
 from tests.runtime.simulation.irsim_replay import (
     drive_recording,
@@ -112,13 +112,9 @@ def irsim_rows(
     with tempfile.TemporaryDirectory() as folder:
         for lidar in (False, True):
             robot = robot_for(arena) if lidar else robot_for(arena, beams=0)
-            threads = numba.get_num_threads()
             ours = mazegen_rate(population, driven, policy, robot, repeats)
-            numba.set_num_threads(1)
-            try:
+            with threads(1):
                 ours_one = mazegen_rate(population, driven, policy, robot, repeats)
-            finally:
-                numba.set_num_threads(threads)
             worlds = [export_world(population, m, Path(folder), lidar=lidar) for m in picked.tolist()]
             given = [np.array(recording.commands[m][: steps_of[m]]) * [metres, 1.0] for m in picked.tolist()]
             theirs, steps = irsim_rate(worlds, given, repeats)
@@ -141,7 +137,7 @@ def irsim_rows(
 COLUMNS = [
     ("work", "work per robot step", "s"),
     ("floors", "MazeGen floors", "d"),
-    ("mazegen", f"MazeGen steps/s ({numba.get_num_threads()} threads)", ",.0f"),
+    ("mazegen", f"MazeGen steps/s ({thread_count()} threads)", ",.0f"),
     ("mazegen_one", "MazeGen steps/s (1 thread)", ",.0f"),
     ("irsim_floors", "IR-SIM floors", "d"),
     ("irsim_steps", "IR-SIM steps", ",d"),

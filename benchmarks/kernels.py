@@ -27,7 +27,6 @@ from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
-import numba
 import numpy as np
 from common import BENCHMARKS, ROOT, markdown_table, median_seconds, peak_rss_mb, write_csv
 
@@ -40,6 +39,7 @@ from mazegen.runtime.engine.mapping import PopulationMap
 from mazegen.runtime.engine.operators import random_codons, random_genes
 from mazegen.runtime.engine.population import Population, placement_params
 from mazegen.runtime.engine.problem import Problem, Workspace
+from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import FitnessTerm
 
 EXP8 = ROOT / "examples" / "table1" / "exp8.maze"
@@ -184,14 +184,10 @@ KERNELS: dict[str, Callable[[Problem, Sample], Callable[[], object]]] = {
 
 
 def time_threads(action: Callable[[], object], repeats: int) -> tuple[float, float]:
-    """Median seconds of ``action`` with all numba threads, then with one (restored afterwards)."""
+    """Median seconds of ``action`` with all the kernels' threads, then with one."""
     parallel = median_seconds(action, repeats=repeats, warmup=WARMUP)
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
+    with threads(1):
         return parallel, median_seconds(action, repeats=repeats, warmup=WARMUP)
-    finally:
-        numba.set_num_threads(threads)
 
 
 def measure_kernels(population: int, repeats: int) -> tuple[list[dict], list[dict]]:
@@ -461,8 +457,8 @@ def main() -> None:
     genome_population = min(GENOME_POPULATION, limit or GENOME_POPULATION)
 
     print(
-        f"kernels at population {population:,}, {numba.get_num_threads()} threads "
-        f"({numba.threading_layer()}), load average {os.getloadavg()[0]:.2f}"
+        f"kernels at population {population:,}, {thread_count()} threads, "
+        f"load average {os.getloadavg()[0]:.2f}"
     )
     described, timed = measure_kernels(population, args.repeats)
     print("\nscaling")

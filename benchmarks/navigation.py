@@ -38,7 +38,6 @@ from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
-import numba
 import numpy as np
 from common import BENCHMARKS, ROOT, markdown_table, median_seconds, peak_rss_mb, write_csv
 from kernels import EVOLVED_GENERATIONS, Sample, evolved_sample
@@ -51,6 +50,7 @@ from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.connectivity import reach
 from mazegen.runtime.navigation.difficulty import survey
 from mazegen.runtime.navigation.paths import navigate
+from mazegen.runtime.threads import thread_count, threads
 
 SPECS = {
     "factory": ROOT / "examples" / "factory.maze",
@@ -137,14 +137,10 @@ def on_grid(pop: Population, grid: float | None) -> Population:
     return pop
 
 
-def seconds_on(threads: int, action: Callable[[], object], repeats: int) -> float:
-    """Median seconds of ``action`` on ``threads`` numba threads (the thread count restored afterwards)."""
-    previous = numba.get_num_threads()
-    numba.set_num_threads(threads)
-    try:
+def seconds_on(count: int, action: Callable[[], object], repeats: int) -> float:
+    """Median seconds of ``action`` on ``count`` of the kernels' threads."""
+    with threads(count):
         return median_seconds(action, repeats=repeats, warmup=WARMUP)
-    finally:
-        numba.set_num_threads(previous)
 
 
 def describe(pop: Population) -> dict:
@@ -169,7 +165,7 @@ def measure(population: int, repeats: int) -> list[dict]:
         for case in (case for case in CASES if case.spec == spec_name):
             pop = on_grid(sample.population, case.grid)
             action = OPERATIONS[case.operation](problem, sample, pop)
-            parallel = seconds_on(numba.get_num_threads(), action, repeats)
+            parallel = seconds_on(thread_count(), action, repeats)
             single = seconds_on(1, action, repeats) if case.one_thread else None
             row = {
                 "spec": spec_name,
@@ -246,8 +242,8 @@ def main() -> None:
     repeats = args.repeats or (QUICK_REPEATS if args.quick else REPEATS)
 
     print(
-        f"navigation at population {population:,}, median of {repeats}, {numba.get_num_threads()} threads "
-        f"({numba.threading_layer()}), load average {os.getloadavg()[0]:.2f}"
+        f"navigation at population {population:,}, median of {repeats}, {thread_count()} threads, "
+        f"load average {os.getloadavg()[0]:.2f}"
     )
     rows = measure(population, repeats)
 

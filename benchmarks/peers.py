@@ -48,6 +48,7 @@ from alogos.systems import ge
 from common import BENCHMARKS, ROOT, markdown_table, write_csv
 
 import mazegen
+from mazegen.spec import FIRST_OPERATORS
 
 SPEC = ROOT / "examples" / "mazegen1.maze"
 BNF = """\
@@ -185,14 +186,21 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--seed", type=int, default=1, help="repeat r of both libraries uses seed + r")
     parser.add_argument("--csv", type=Path, default=BENCHMARKS / "peers.csv")
+    parser.add_argument(
+        "--first-operators",
+        action="store_true",
+        help="MazeGen with the operators that were its default before (one-point crossover and mutation "
+        "within the whole genome), whose evolved genomes use fewer codons",
+    )
     args = parser.parse_args()
 
     # alogos' EA maps genotypes without passing its parameters, so only the module default
     # stops wrapping (it is 3); the max_wraps=0 given to the EA reaches the initial population only.
     ge.default_parameters.max_wraps = 0
     grammar = alogos.Grammar(bnf_text=BNF)
+    operators = FIRST_OPERATORS if args.first_operators else {}
     spec = mazegen.load(SPEC).with_evolution(
-        selection="tournament", tournament=TOURNAMENT, crossover=CROSSOVER, mutation=MUTATION
+        selection="tournament", tournament=TOURNAMENT, crossover=CROSSOVER, mutation=MUTATION, **operators
     )
     with tempfile.TemporaryDirectory(prefix="mazegen-peers-") as temp:
         build_dir = Path(temp)

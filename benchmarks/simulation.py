@@ -13,7 +13,7 @@ timeout 8 × the optimal time). Floors MazeGen finds no path on are not driven a
 
 Each drive is timed whole, as a user or a fitness term pays for it: the paths (optimal times, and
 the corners purepursuit follows), the floors' parts, the episodes. Every figure is the median of
-``--repeats`` drives after one untimed drive (which compiles the kernels), with all numba threads
+``--repeats`` drives after one untimed drive (which compiles the kernels), with all the kernels' threads
 and with one. Prints one Markdown table per controller, and the targets: ``straight`` and
 ``purepursuit`` at least 20,000 episodes/s on 2 cores, ``dwa`` 500 (its fields built inside the
 timed drive), ``vfh`` (a 360-beam lidar) 200 (the issue's; a loaded machine measures less).
@@ -26,7 +26,6 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 
-import numba
 import numpy as np
 from common import markdown_table, median_seconds
 from irsim_rows import COLUMNS as IRSIM_COLUMNS
@@ -35,6 +34,7 @@ from kernels import evolved_sample, load_problem
 
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.simulation import NO_PATH, OUTCOMES, drive
+from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import robot_for
 
 FLOORS = 10_000
@@ -46,7 +46,7 @@ CONTROLLERS = ("straight", "purepursuit", "dwa", "vfh")
 """Measured unless ``--controllers`` says otherwise; any bundled controller may be named."""
 
 COLUMNS = [
-    ("threads", "numba threads", "d"),
+    ("threads", "threads", "d"),
     ("driven", "floors driven", ",d"),
     ("episodes_per_s", "episodes/s", ",.0f"),
     ("steps_per_s", "robot steps/s", ",.0f"),
@@ -67,20 +67,17 @@ def evolved_floors(count: int, seed: int) -> Population:
 def controller_rows(name: str, floors: Population, repeats: int) -> list[dict]:
     """One row per thread count: the median drive of ``name`` over every valid floor."""
     robot = robot_for(floors.arena)
-    every = numba.get_num_threads()
     rows = []
-    for threads in sorted({every, 1}, reverse=True):
-        numba.set_num_threads(threads)
-        try:
+    every = thread_count()
+    for count in sorted({every, 1}, reverse=True):
+        with threads(count):
             episodes = drive(floors, robot=robot, controller=name)
             seconds = median_seconds(lambda: drive(floors, robot=robot, controller=name), repeats=repeats)
-        finally:
-            numba.set_num_threads(every)
         driven = episodes.outcome != NO_PATH
         share = np.bincount(episodes.outcome[driven], minlength=len(OUTCOMES)) / max(1, driven.sum())
         rows.append(
             {
-                "threads": threads,
+                "threads": count,
                 "driven": int(driven.sum()),
                 "episodes_per_s": driven.sum() / seconds,
                 "steps_per_s": episodes.steps.sum() / seconds,
@@ -88,7 +85,7 @@ def controller_rows(name: str, floors: Population, repeats: int) -> list[dict]:
                 "arrived_pct": 100 * share[0],
                 "collision_pct": 100 * share[1],
                 "timeout_pct": 100 * share[2],
-                "target": TARGETS.get(name) if threads == every else None,
+                "target": TARGETS.get(name) if count == every else None,
             }
         )
     return rows

@@ -49,19 +49,14 @@ def test_generation_stats_equal_numpy_over_valid_individuals(size):
 
 
 def test_thread_count_does_not_change_results(factory):
-    """5,000 individuals run on every numba thread; forced onto one, the run is identical."""
-    import numba
-
-    from mazegen.runtime.threads import PARALLEL_FROM
+    """5,000 individuals run on every thread; forced onto one, the run is identical."""
+    from mazegen.runtime.threads import CORES, PARALLEL_FROM, threads
 
     settings = factory.spec.evolution.__class__(population=PARALLEL_FROM + 904, generations=3)
-    parallel = evolve(factory, settings, np.random.default_rng(9))
-    threads = numba.get_num_threads()
-    numba.set_num_threads(1)
-    try:
+    with threads(CORES):
+        parallel = evolve(factory, settings, np.random.default_rng(9))
+    with threads(1):
         serial = evolve(factory, settings, np.random.default_rng(9))
-    finally:
-        numba.set_num_threads(threads)
     assert np.array_equal(parallel.codons, serial.codons) and np.array_equal(parallel.genes, serial.genes)
     assert np.array_equal(parallel.fitness, serial.fitness)
     assert [r.best for r in parallel.stats] == [r.best for r in serial.stats]

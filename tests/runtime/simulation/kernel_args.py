@@ -3,12 +3,12 @@ a controller's drives on one thread and on all."""
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.simulation import Episodes, drive
 from mazegen.runtime.simulation._choice import bundled_params
+from mazegen.runtime.threads import CORES, threads
 from mazegen.spec import robot_for
 from tests.runtime.floors import ARENA
 
@@ -28,13 +28,8 @@ def params_of(name: str) -> np.ndarray:
 
 
 def on_one_thread_and_on_all(pop: Population, controller: str) -> tuple[Episodes, Episodes]:
-    """``controller``'s recorded drives over ``pop`` on one numba thread and on every thread."""
-    before = numba.get_num_threads()
-    try:
-        runs = []
-        for threads in (1, numba.config.NUMBA_NUM_THREADS):
-            numba.set_num_threads(threads)
-            runs.append(drive(pop, robot=ROBOT, controller=controller, record=True))
-    finally:
-        numba.set_num_threads(before)
-    return runs[0], runs[1]
+    """``controller``'s recorded drives over ``pop`` on one thread and on every thread."""
+    with threads(1):
+        one = drive(pop, robot=ROBOT, controller=controller, record=True)
+    with threads(CORES):
+        return one, drive(pop, robot=ROBOT, controller=controller, record=True)

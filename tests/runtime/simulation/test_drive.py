@@ -5,12 +5,12 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 import pytest
 
 from mazegen.errors import MazeError
 from mazegen.runtime.simulation import ARRIVED, COLLISION, NO_PATH, OUTCOMES, drive
+from mazegen.runtime.threads import CORES, threads
 from mazegen.spec import Arena, ControllerSpec, robot_for
 from tests.runtime.floors import ARENA, ZIGZAG, population, random_floors
 
@@ -104,28 +104,24 @@ def test_starts_and_indices_choose_the_floors_and_poses():
 def test_a_drive_is_the_same_whatever_the_thread_count():
     floors = population(ARENA, random_floors(np.random.default_rng(5), 60, ARENA))
     robot = robot_for(ARENA)
-    before = numba.get_num_threads()
-    try:
-        for name in BUNDLED:
-            numba.set_num_threads(1)
+    for name in BUNDLED:
+        with threads(1):
             one = drive(floors, robot=robot, controller=name, record=True)
-            numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+        with threads(CORES):
             many = drive(floors, robot=robot, controller=name, record=True)
-            for field in (
-                "outcome",
-                "time",
-                "distance",
-                "clearance",
-                "optimal_time",
-                "steps",
-                "collision",
-                "stuck",
-                "trajectory",
-            ):
-                np.testing.assert_array_equal(getattr(one, field), getattr(many, field), err_msg=field)
-            assert len(set(one.outcome)) > 1  # the floors are not all alike
-    finally:
-        numba.set_num_threads(before)
+        for field in (
+            "outcome",
+            "time",
+            "distance",
+            "clearance",
+            "optimal_time",
+            "steps",
+            "collision",
+            "stuck",
+            "trajectory",
+        ):
+            np.testing.assert_array_equal(getattr(one, field), getattr(many, field), err_msg=field)
+        assert len(set(one.outcome)) > 1  # the floors are not all alike
 
 
 @pytest.mark.parametrize(

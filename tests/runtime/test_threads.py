@@ -1,0 +1,61 @@
+"""The kernels' threads: blocks that cover a range once, on as many threads as asked."""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+from numba import njit
+
+from mazegen.runtime.threads import CORES, in_blocks, thread_count, threads, threads_for
+
+
+@njit(nogil=True)
+def _count_visits(first, last, visits):  # pragma: no cover - compiled
+    for i in range(first, last):
+        visits[i] += 1
+
+
+@pytest.mark.parametrize("count", [0, 1, 2, 7, 1000])
+@pytest.mark.parametrize("workers", [1, 2, 3])
+def test_blocks_cover_the_range_once(count, workers):
+    visits = np.zeros(count, np.int64)
+    with threads(workers):
+        in_blocks(_count_visits, count, visits, per_thread=3)
+    assert np.array_equal(visits, np.ones(count, np.int64))
+
+
+def test_one_thread_runs_in_the_calling_thread_in_one_block():
+    calls = []
+    with threads(1):
+        in_blocks(lambda first, last: calls.append((first, last, threading.current_thread())), 10)
+    assert calls == [(0, 10, threading.current_thread())]
+
+
+def test_several_threads_share_the_blocks():
+    seen = []
+    with threads(2):
+        in_blocks(lambda first, last: seen.append(threading.current_thread()), 8, per_thread=4)
+    assert len(seen) == 8
+    assert threading.current_thread() in seen and len(set(seen)) > 1  # the caller works one block too
+
+
+def test_a_block_that_raises_raises_in_the_caller():
+    def fails(first, last):
+        if first > 0:
+            raise ValueError(f"block {first}")
+
+    with threads(2), pytest.raises(ValueError, match="block"):
+        in_blocks(fails, 10)
+
+
+def test_thread_counts_are_bounded_and_restored():
+    before = thread_count()
+    with threads(10 * CORES) as count:
+        assert count == CORES == thread_count()
+    with threads(0) as count:
+        assert count == 1
+    with threads_for(10) as small, threads_for(10**6) as large:
+        assert small == 1 and large == 1  # a large population inside a small one's block stays on one
+    assert thread_count() == before
