@@ -58,7 +58,7 @@ def _closest(path, x, y):  # pragma: no cover - compiled
     return segment, fraction
 
 
-@njit(cache=True)
+@njit(cache=True, no_cpython_wrapper=True)
 def carrot(path, x, y, reach):  # pragma: no cover - compiled
     """The lookahead point: walking ``path`` on from its point nearest ``(x, y)``, the first point
     ``reach`` away from ``(x, y)``; the path's end when all of it is nearer."""

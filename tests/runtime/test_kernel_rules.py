@@ -1,0 +1,70 @@
+"""The rules that keep a first run's compiling short (docs/architecture.md, Compiling), checked on the
+sources: no parallel or inlined kernels, no literal constants given to kernels, and a Python wrapper
+for exactly the kernels Python calls."""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+from tests.conftest import ROOT
+
+RUNTIME = ROOT / "mazegen" / "runtime"
+
+
+def _kernels() -> list[tuple[Path, ast.FunctionDef, str]]:
+    """Every compiled function of the runtime: its file, its definition and its decorator's text."""
+    found = []
+    for path in sorted(RUNTIME.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.FunctionDef):
+                decorators = [ast.unparse(d) for d in node.decorator_list if "njit" in ast.unparse(d)]
+                if decorators:
+                    found.append((path, node, decorators[0]))
+    return found
+
+
+def test_no_kernel_is_parallel_or_inlined():
+    offending = [
+        f"{path.name}:{node.lineno} {node.name}"
+        for path, node, decorator in _kernels()
+        if "parallel" in decorator or "inline" in decorator
+    ]
+    assert offending == []
+
+
+def test_no_kernel_gives_another_a_literal_constant():
+    names = {node.name for _, node, _ in _kernels()}
+    offending = []
+    for path, node, _ in _kernels():
+        for call in ast.walk(node):
+            if not isinstance(call, ast.Call):
+                continue
+            callee = call.func.attr if isinstance(call.func, ast.Attribute) else getattr(call.func, "id", "")
+            constants = [a for a in call.args if isinstance(a, ast.Constant) and type(a.value) in (int, bool)]
+            if callee in names and constants:
+                offending.append(f"{path.name}:{call.lineno} {ast.unparse(call)}")
+    assert offending == []
+
+
+def test_kernels_have_a_python_wrapper_exactly_when_python_calls_them():
+    kernels = _kernels()
+    bodies = {(path, line) for path, node, _ in kernels for line in range(node.lineno, node.end_lineno + 1)}
+    sources = [
+        *(ROOT / "mazegen").rglob("*.py"),
+        *(ROOT / "tests").rglob("*.py"),
+        *(ROOT / "benchmarks").glob("*.py"),
+    ]
+    outside: dict[str, int] = {}
+    for path in sources:
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+            if (path, number) not in bodies and path != Path(__file__):
+                for name in set(re.findall(r"\b\w+\b", line)):
+                    outside[name] = outside.get(name, 0) + 1
+    wrong = [
+        f"{path.name}:{node.lineno} {node.name}"
+        for path, node, decorator in kernels
+        if ("no_cpython_wrapper=True" in decorator) == (outside.get(node.name, 0) > 0)
+    ]
+    assert wrong == []
