@@ -64,6 +64,7 @@ def run(
     checkpoint_every: int | None = None,
     catalog: bool | str | os.PathLike[str] = True,
     keep_populations: bool = True,
+    compile_seconds: float = 0.0,
 ) -> ExperimentResult:
     """Run a spec (a :class:`Spec`, a ``.maze`` file or a build directory).
 
@@ -89,6 +90,8 @@ def run(
         catalog: The catalog file, ``True`` for ``catalog.sqlite`` beside ``out_dir``, ``False`` for none.
         keep_populations: Return each run's final population; without, the result holds each
             run's statistics and best documents (the populations are in ``out_dir``).
+        compile_seconds: Seconds the caller spent compiling the kernels for this run ahead
+            (:func:`mazegen.runtime.runs.warmup.compile_kernels`), counted in run 1's time.
     """
     from mazegen.runtime.runs.experiment import Experiment
     from mazegen.runtime.runs.launcher import Job, run_jobs
@@ -97,7 +100,8 @@ def run(
         experiment = Experiment.from_build_dir(build_dir).with_settings(
             seed=seed, runs=runs, population=population, generations=generations
         )
-        job = Job(experiment, None if out_dir is None else Path(out_dir), force=force)
+        run_dir = None if out_dir is None else Path(out_dir)
+        job = Job(experiment, run_dir, force=force, compile_seconds=compile_seconds)
         return run_jobs(
             [job],
             executor=executor,

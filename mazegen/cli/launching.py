@@ -6,6 +6,7 @@ import functools
 import tempfile
 from collections.abc import Callable
 from pathlib import Path
+from time import monotonic
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
@@ -79,24 +80,28 @@ def launch_settings(options: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-def compile_first(source: Spec | Path | Problem, executor: str, reporter: Reporter) -> None:
+def compile_first(source: Spec | Path | Problem, executor: str, reporter: Reporter) -> float:
     """Before the first runs of this version, say so and compile the kernels on two cores at once.
 
     ``source`` is the spec, a build directory or the problem loaded from one. Here rather than
     in the API: a helper process imports the program's main module, which this command's is safe
     for and a script's may not be. A Dask cluster's workers compile for themselves.
+
+    Returns:
+        The seconds it took (0 when nothing was compiled), for the runs to count.
     """
     from mazegen.runtime import kernels_cached, run_kernels
     from mazegen.runtime.engine.problem import Problem, read_build_spec
 
     if executor == "dask":
-        return
+        return 0.0
     spec = source.spec if isinstance(source, Problem) else source
     if kernels_cached(run_kernels(read_build_spec(spec) if isinstance(spec, Path) else spec)):
-        return
+        return 0.0
     from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
     from mazegen.runtime.runs.warmup import compile_kernels
 
+    started = monotonic()
     reporter.note(FIRST_COMPILE_NOTE)
     if isinstance(source, Problem):
         compile_kernels(source)
@@ -108,6 +113,7 @@ def compile_first(source: Spec | Path | Problem, executor: str, reporter: Report
         with tempfile.TemporaryDirectory(prefix="mazegen-compile-") as temp:
             build(source, Path(temp))
             compile_kernels(Problem.from_build_dir(Path(temp)))
+    return monotonic() - started
 
 
 def reports_interruption(command: F) -> F:

@@ -59,7 +59,7 @@ def run(
     target = out or default_run_dir(overridden)
     reporter = reporter_for(quiet=quiet)
     try:
-        compile_first(what, options["executor"], reporter)
+        compile_seconds = compile_first(what, options["executor"], reporter)
         outcome = api.run(
             what,
             seed=seed,
@@ -70,6 +70,7 @@ def run(
             force=force,
             reporter=reporter,
             keep_populations=False,  # the summary needs the best scenarios only
+            compile_seconds=compile_seconds,
             **launch_settings(options),
         )
     finally:

@@ -59,7 +59,7 @@ def suite(
 
     from mazegen.dsl.loader import load_spec
     from mazegen.generator.build import build
-    from mazegen.runtime.campaigns.suite import fill_archive, suite_documents, write_suite
+    from mazegen.runtime.campaigns.suite import SuiteSettings, fill_archive, suite_documents, write_suite
     from mazegen.runtime.engine.problem import Problem
     from mazegen.runtime.runs.progress import reporter_for
 
@@ -91,7 +91,8 @@ def suite(
         finally:
             reporter.close()
         documents = suite_documents(problem, archive, size, seed=seed)
-        write_suite(target, problem, archive, documents, force=force)
+        chosen = SuiteSettings(seed=seed, iterations=iterations, batch=batch, size=size)
+        write_suite(target, problem, archive, documents, chosen, force=force)
     cells = archive.bins.difficulty * archive.bins.elements
     click.echo(f"archive: {archive.filled.size} of {cells} cells filled")
     if len(documents) < size:

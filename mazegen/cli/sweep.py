@@ -28,7 +28,7 @@ from mazegen.cli.launching import launch_options, launch_settings, reports_inter
     "-o",
     "--out",
     type=click.Path(file_okay=False, path_type=Path),
-    help="Folder of the cells and their catalog (default sweeps/<first scenario>).",
+    help="Folder of the cells and their catalog (default sweeps/<scenario>+<scenario>..., every spec's).",
 )
 @click.option("--force", is_flag=True, help="Replace existing cell directories.")
 @launch_options
@@ -51,13 +51,13 @@ def sweep(
     """
     from mazegen import api
     from mazegen.errors import MazeError
-    from mazegen.runtime.campaigns.sweep import parse_axes
+    from mazegen.runtime.campaigns.sweep import parse_axes, sweep_name
     from mazegen.runtime.runs.command_line import NO_SCENARIO, summary_lines
     from mazegen.runtime.runs.progress import reporter_for
 
     parsed = parse_axes(axes)
     resolved = [api.load(path) for path in specs]
-    target = out or Path("sweeps") / resolved[0].name
+    target = out or Path("sweeps") / sweep_name(resolved)
     reporter = reporter_for(quiet=quiet)
     try:
         cells = api.sweep(

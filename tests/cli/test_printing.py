@@ -4,7 +4,10 @@ from __future__ import annotations
 
 from click.testing import CliRunner
 
+import mazegen.runtime
+import mazegen.runtime.runs.warmup
 from mazegen.cli.main import main
+from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
 
 # The grammar's text escapes decode to ESC ] 0 ; TITLE BEL: a terminal would take the title.
 TITLE_SPEC = """
@@ -42,3 +45,14 @@ def test_check_prints_a_file_name_with_control_characters_escaped(write_spec):
     assert "\x1b" not in result.output and "\x07" not in result.output
     assert "we\\x1b]0;TITLE\\x07ird.maze: OK" in result.output
     assert "ba\\x1b[2Jd.maze:1:1: expected" in result.output
+
+
+def test_the_compile_note_is_one_line_in_a_pipe(write_spec, tmp_path, monkeypatch):
+    # Rich wrapped it at 80 columns, mid-sentence, for whatever read standard error.
+    monkeypatch.setattr(mazegen.runtime.runs.warmup, "compile_kernels", lambda problem: None)
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): False)
+    monkeypatch.delenv("COLUMNS", raising=False)
+    assert len(FIRST_COMPILE_NOTE) > 80
+    result = invoke("run", str(write_spec(TITLE_SPEC)), "--executor", "serial", "-o", str(tmp_path / "run"))
+    assert result.exit_code == 0, result.output
+    assert result.stderr.startswith(FIRST_COMPILE_NOTE + "\n")

@@ -15,6 +15,7 @@ few array operations.
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import math
 import time
@@ -75,6 +76,17 @@ class Bins:
         first = 1 + col * self.per_bin
         elements = str(first) if self.per_bin == 1 else f"{first}-{first + self.per_bin - 1}"
         return difficulty, elements
+
+
+@dataclass(frozen=True)
+class SuiteSettings:
+    """What a suite ran with, as ``mazegen suite`` names it: the seed, the batches bred after the random
+    one (``iterations``), the scenarios per batch and the scenarios written (``size``)."""
+
+    seed: int
+    iterations: int
+    batch: int
+    size: int
 
 
 class Archive:
@@ -231,13 +243,21 @@ def archive_heatmap(archive: Archive, chosen: np.ndarray, title: str) -> bytes:
 
 
 def write_suite(
-    out_dir: Path, problem: Problem, archive: Archive, documents: list[dict[str, Any]], *, force: bool
+    out_dir: Path,
+    problem: Problem,
+    archive: Archive,
+    documents: list[dict[str, Any]],
+    settings: SuiteSettings,
+    *,
+    force: bool,
 ) -> None:
-    """Write the suite directory atomically: scenarios, drawings, the archive and its heatmap."""
+    """Write the suite directory atomically: scenarios, drawings, the archive (with the suite's
+    ``settings``, which its report shows instead of the spec's evolution block) and its heatmap."""
     bins = archive.bins
     filled = archive.filled
     record = {
         "scenario": problem.spec.name,
+        "settings": dataclasses.asdict(settings),
         "bins": {"difficulty": bins.difficulty, "difficulty_width": DIFFICULTY_BIN, "elements": bins.elements,
                  "elements_per_bin": bins.per_bin},
         "filled": int(filled.size),

@@ -43,6 +43,9 @@ FITNESS = "fitness."
 MAX_CELLS = 10_000
 """The most cells a sweep may have (all specs together), checked before any cell is made."""
 
+_LONGEST_NAME = 100
+"""Longest default folder name of a sweep (file systems allow 255 bytes)."""
+
 _WEIGHT = _Setting(float, lambda v: v >= 0, "at least 0")
 _RANGE = re.compile(r"(-?\d+)\.\.(-?\d+)")
 _NAME = re.compile(r"[^A-Za-z0-9_.]+")
@@ -180,6 +183,14 @@ def apply_cell(spec: Spec, cell: dict[str, Value]) -> Spec:
 def _text(value: Value) -> str:
     """A value as names and messages write it: ``0.5``, ``0`` for ``0.0``."""
     return f"{value:g}" if isinstance(value, float) else str(value)
+
+
+def sweep_name(specs: Sequence[Spec]) -> str:
+    """A sweep's default folder name: each of its scenarios' names once, joined by ``+``
+    (``factory+table1_exp3``), or the first and how many more when that is too long."""
+    names = list(dict.fromkeys(spec.name for spec in specs))
+    joined = "+".join(names)
+    return joined if len(joined) <= _LONGEST_NAME else f"{names[0]}+{len(names) - 1}-more"
 
 
 def cell_name(scenario: str, cell: dict[str, Value]) -> str:

@@ -168,6 +168,7 @@ def evolve(
     *,
     resume: RunState | None = None,
     on_generation: Callable[[RunState], None] | None = None,
+    waited: float = 0.0,
 ) -> RunResult:
     """Run one evolution from a random population, or on from a saved state.
 
@@ -179,9 +180,11 @@ def evolve(
         on_generation: Called with the state after each generation is evaluated, before
             the next is bred (progress, checkpoints). Its arrays are valid during the call
             only; an exception it raises stops the run.
+        waited: Seconds spent for the run before it started (its kernels compiled ahead), which the
+            time of generation 0 counts.
     """
     with threads_for(settings.population):
-        return _evolve(problem, settings, rng, resume, on_generation or (lambda state: None))
+        return _evolve(problem, settings, rng, resume, on_generation or (lambda state: None), waited)
 
 
 def _evolve(
@@ -190,9 +193,10 @@ def _evolve(
     rng: np.random.Generator,
     resume: RunState | None,
     on_generation: Callable[[RunState], None],
+    waited: float,
 ) -> RunResult:
     workspace = Workspace()
-    started = perf_counter()
+    started = perf_counter() - waited
     if resume is None:
         codons = ops.random_codons(rng, settings.population, settings.genome, settings.codon_max)
         genes = ops.random_genes(rng, settings.population, problem.slots)

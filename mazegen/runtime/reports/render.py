@@ -10,15 +10,17 @@ from __future__ import annotations
 
 import io
 import itertools
+import math
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from xml.sax.saxutils import escape
 
-from PIL import Image, ImageDraw, ImageFont
+from PIL import Image, ImageChops, ImageDraw, ImageFont
 
 from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
-from mazegen.runtime.reports.picture import CLIPPED, INK, RGB, WHITE, Shape, layout, parse, rgb
+from mazegen.runtime.reports.picture import layout
+from mazegen.runtime.reports.scene import CLIPPED, INK, RGB, WHITE, Point, Shape, parse, rgb
 
 __all__ = ["render_file", "rgb", "scenario_png", "scenario_svg"]
 
@@ -38,6 +40,10 @@ def _f(value: float) -> str:
     return "0" if text == "-0" else text
 
 
+def _points(points: tuple[Point, ...]) -> str:
+    return " ".join(f"{_f(x)},{_f(y)}" for x, y in points)
+
+
 def _paint(shape: Shape) -> str:
     """SVG fill/stroke attributes of a shape."""
     attrs = [f'fill="{_hex(shape.fill)}"' if shape.fill else 'fill="none"']
@@ -55,8 +61,10 @@ def _svg_element(shape: Shape) -> str:
             f'<rect x="{_f(x0)}" y="{_f(y0)}" width="{_f(x1 - x0)}" height="{_f(y1 - y0)}" {_paint(shape)}/>'
         )
     if shape.kind in ("polygon", "polyline"):
-        points = " ".join(f"{_f(x)},{_f(y)}" for x, y in shape.points)
-        return f'<{shape.kind} points="{points}" {_paint(shape)} stroke-linejoin="round"/>'
+        return f'<{shape.kind} points="{_points(shape.points)}" {_paint(shape)} stroke-linejoin="round"/>'
+    if shape.kind == "path":
+        rings = " ".join(f"M {_points(ring)} Z" for ring in shape.rings)
+        return f'<path d="{rings}" fill-rule="evenodd" {_paint(shape)} stroke-linejoin="round"/>'
     if shape.kind == "circle":
         ((x, y),) = shape.points
         return f'<circle cx="{_f(x)}" cy="{_f(y)}" r="{_f(shape.radius)}" {_paint(shape)}/>'
@@ -151,6 +159,8 @@ def _draw_png(image: Image.Image, shapes: Iterable[Shape]) -> None:
             draw.rectangle(xy, fill=fill, outline=shape.stroke, width=line if shape.stroke else 0)
         elif shape.kind == "polygon":
             draw.polygon(xy, fill=fill, outline=shape.stroke, width=line)
+        elif shape.kind == "path":
+            _draw_rings(image, draw, shape)
         elif shape.kind == "circle":
             (x, y), r = xy[0], shape.radius * s
             draw.ellipse([(x - r, y - r), (x + r, y + r)], fill=fill, outline=shape.stroke, width=line)
@@ -159,6 +169,26 @@ def _draw_png(image: Image.Image, shapes: Iterable[Shape]) -> None:
         else:
             font = ImageFont.load_default(size=shape.width * s)
             draw.text(xy[0], shape.text, fill=shape.fill, font=font, anchor=_PIL_ANCHORS[shape.anchor])
+
+
+def _draw_rings(image: Image.Image, draw: ImageDraw.ImageDraw, shape: Shape) -> None:
+    """Fill a path's rings even-odd (a ring inside another is a hole) and outline each."""
+    s = _SUPERSAMPLE
+    rings = [[(x * s, y * s) for x, y in ring] for ring in shape.rings]
+    xs, ys = [x for ring in rings for x, _ in ring], [y for ring in rings for _, y in ring]
+    left, top = max(0, math.floor(min(xs))), max(0, math.floor(min(ys)))
+    right, bottom = min(image.width, math.ceil(max(xs)) + 1), min(image.height, math.ceil(max(ys)) + 1)
+    if shape.fill is not None and left < right and top < bottom:  # masks of the path's box alone
+        inside = Image.new("1", (right - left, bottom - top))
+        for ring in rings:
+            one = Image.new("1", inside.size)
+            ImageDraw.Draw(one).polygon([(x - left, y - top) for x, y in ring], fill=1)
+            inside = ImageChops.logical_xor(inside, one)
+        alpha = round(255 * shape.opacity)  # a colour pasted through a mask blends in, as other fills do
+        blend = inside.convert("L").point(lambda on: alpha if on else 0)
+        image.paste(shape.fill, (left, top, right, bottom), blend)
+    for ring in rings:
+        draw.line([*ring, ring[0]], fill=shape.stroke, width=max(1, round(shape.width * s)), joint="curve")
 
 
 _WRITERS: dict[str, Callable[[dict], bytes]] = {

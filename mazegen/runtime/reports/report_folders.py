@@ -26,8 +26,17 @@ from mazegen.runtime.reports.report import (
     run_sections,
     statistic_table,
 )
-from mazegen.runtime.reports.report_html import Saved, data_uri, e, gallery, page, scenarios_table, spec_html
-from mazegen.runtime.reports.spec_words import spec_blocks
+from mazegen.runtime.reports.report_html import (
+    Saved,
+    data_uri,
+    e,
+    gallery,
+    page,
+    scenarios_table,
+    spec_html,
+    table,
+)
+from mazegen.runtime.reports.spec_words import SUITE_EVOLUTION, spec_blocks
 
 
 def folder_report(path: Path, *, links_from: Path) -> str:
@@ -50,12 +59,13 @@ def folder_report(path: Path, *, links_from: Path) -> str:
 
 
 def suite_html(path: Path, *, links_from: Path) -> str:
-    """The page of a suite folder: the spec, the archive's heatmap, every scenario."""
+    """The page of a suite folder: the settings it used, the archive's heatmap, every scenario."""
     spec = read_spec(path / "spec.json")
     try:
         archive = json_value(read_text(path / "archive.json", "archive.json"))
         filled = f"{int(archive['filled'])} archive cells filled"
-    except (ValueError, KeyError, TypeError):
+        suite = [(name, int(value)) for name, value in archive.get("settings", {}).items()]  # older: none
+    except (ValueError, KeyError, TypeError, AttributeError):
         raise MazeError("damaged archive.json", filename=str(path / "archive.json")) from None
     scenarios = [
         Saved(f"scenario {file.stem.removeprefix('scenario-')}", file, read_document(file))
@@ -66,7 +76,8 @@ def suite_html(path: Path, *, links_from: Path) -> str:
         f"<h1>MazeGen suite: {e(spec.name)}</h1>",
         f"<p>{len(scenarios)} scenarios, {e(filled)}, from <code>{e(path.name)}</code>.</p>",
         "<h2>Settings</h2>",
-        spec_html(spec),
+        f'<div class="tables">{table(suite, "suite")}</div>' if suite else "",
+        spec_html(spec, evolution=SUITE_EVOLUTION),
     ]
     if heatmap.is_file():
         picture = data_uri(heatmap.read_bytes(), "image/png")
@@ -116,14 +127,20 @@ def sweep_html(path: Path, cells: list[Path], *, links_from: Path) -> str:
             f"<p>{e('; '.join(own) or 'the shared settings')}</p>",
             *run_sections(run, links_from, level=3, one_drawing=True),
         ]
-    first = runs[0] if runs else None
+    firsts: dict[str, RunDirectory] = {}  # the first cell of each scenario, in cell order
+    for run in runs:
+        firsts.setdefault(str(run.experiment.get("scenario", run.path.name)), run)
+    scenarios = list(firsts)
     summary = [
         f"<h1>MazeGen sweep: {e(path.name)}</h1>",
         f"<p>{len(runs)} finished cells"
+        + (f" of the scenario{'s' if len(scenarios) > 1 else ''} {e(', '.join(scenarios))}" if runs else "")
         + (f", unfinished: {e(', '.join(unfinished))}" if unfinished else "")
         + f", from <code>{e(path.name)}</code>.</p>",
         f"<table>{head}{''.join(rows)}</table>",
     ]
-    if first is not None and first.spec is not None:
-        summary += ["<h2>Settings of the first cell</h2>", spec_html(first.spec)]
+    for scenario in scenarios:  # every spec of the sweep, not the first one's alone
+        spec = firsts[scenario].spec
+        if spec is not None:
+            summary += [f"<h2>Settings of the first cell of {e(scenario)}</h2>", spec_html(spec)]
     return page(f"MazeGen sweep: {path.name}", summary + sections)

@@ -77,10 +77,12 @@ def page(title: str, sections: list[str]) -> str:
     )
 
 
-def spec_html(spec: Spec) -> str:
-    """The spec's arena, scenario, fitness and evolution blocks, written as the language writes them."""
+def spec_html(spec: Spec, *, evolution: tuple[str, ...] | None = None) -> str:
+    """The spec's arena, scenario, fitness and evolution blocks, written as the language writes them
+    (the evolution block with only the settings ``evolution`` names, when given)."""
     blocks = "".join(
-        f'<pre class="spec">{e(block_text(head, words))}</pre>' for head, words in spec_blocks(spec)
+        f'<pre class="spec">{e(block_text(head, words))}</pre>'
+        for head, words in spec_blocks(spec, evolution=evolution)
     )
     return f'<div class="tables">{blocks}</div>'
 

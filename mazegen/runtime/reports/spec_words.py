@@ -11,6 +11,10 @@ from __future__ import annotations
 from mazegen.spec import DIFFICULTY_LEVELS, Arena, Evolution, FitnessTerm, Scenario, Spec
 
 _INDENT = "    "
+SUITE_EVOLUTION = ("genome", "crossover", "mutation", "codons", "wraps", "consume")
+"""The evolution settings a suite uses (:func:`mazegen.runtime.campaigns.suite.fill_archive` breeds
+and maps genomes by them); its seed, batches and their size are its own, and it neither selects,
+keeps elites, counts runs nor keeps a best."""
 
 
 def number(value: float) -> str:
@@ -57,14 +61,15 @@ def term_words(term: FitnessTerm) -> str:
     return _weighted(f"{name} {_span(low, high)}", term.weight)
 
 
-def evolution_words(evolution: Evolution) -> list[str]:
-    """The ``evolution`` block's settings, one per item: ``population 1000``, ``codons 0..255``."""
+def evolution_words(evolution: Evolution, *, only: tuple[str, ...] | None = None) -> list[str]:
+    """The ``evolution`` block's settings, one per item: ``population 1000``, ``codons 0..255``; with
+    ``only``, those it names by their first word (:data:`SUITE_EVOLUTION`)."""
     selection = (
         f"selection tournament {evolution.tournament}"
         if evolution.selection == "tournament"
         else f"selection truncation {number(evolution.truncation)}"
     )
-    return [
+    words = [
         f"population {evolution.population}",
         f"generations {evolution.generations}",
         f"genome {evolution.genome}",
@@ -79,6 +84,7 @@ def evolution_words(evolution: Evolution) -> list[str]:
         f"consume {evolution.consume}",
         f"best {evolution.best}",
     ]
+    return words if only is None else [setting for setting in words if setting.split()[0] in only]
 
 
 def arena_words(arena: Arena) -> list[str]:
@@ -116,13 +122,14 @@ def scenario_words(scenario: Scenario) -> list[str]:
     return words
 
 
-def spec_blocks(spec: Spec) -> list[tuple[str, list[str]]]:
-    """The spec's blocks as ``(header, settings)``: arena, scenario, fitness and evolution."""
+def spec_blocks(spec: Spec, *, evolution: tuple[str, ...] | None = None) -> list[tuple[str, list[str]]]:
+    """The spec's blocks as ``(header, settings)``: arena, scenario, fitness and evolution (only the
+    settings ``evolution`` names, when given: see :func:`evolution_words`)."""
     return [
         (f"arena {spec.arena.name}", arena_words(spec.arena)),
         (f"scenario {spec.scenario.name} on {spec.scenario.arena}", scenario_words(spec.scenario)),
         ("fitness", [term_words(term) for term in spec.fitness]),
-        ("evolution", evolution_words(spec.evolution)),
+        ("evolution", evolution_words(spec.evolution, only=evolution)),
     ]
 
 

@@ -47,6 +47,8 @@ class Job:
         resume: Continue the interrupted run directory ``run_dir``.
         force: Replace an existing ``run_dir``.
         sweep: The settings of the sweep cell it is, for the catalog.
+        compile_seconds: Seconds spent compiling its kernels before the launch (``mazegen run`` compiles
+            them ahead), counted in the time of run 1's generation 0, as if run 1 had compiled them.
     """
 
     experiment: Experiment
@@ -54,6 +56,7 @@ class Job:
     resume: bool = False
     force: bool = False
     sweep: dict[str, Any] | None = None
+    compile_seconds: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -138,6 +141,7 @@ class _Launched:
                 resume_from=resume_from,
                 prepare_files=self.directory is not None,
                 keep_population=self.keep_population,
+                waited=job.compile_seconds if run == 1 else 0.0,
             )
             self.tasks.append(task)
             reporter.add_run((index, run), f"{label}run {run}/{self.runs}", settings.generations, done=done)

@@ -152,8 +152,10 @@ class RichReporter:
             self._progress.update(self._overall, advance=missing)
 
     def note(self, message: str) -> None:
-        """Print ``message`` above the bars."""
-        self._progress.console.print(message, markup=False, highlight=False)
+        """Print ``message`` above the bars: wrapped to a terminal's width, one line in a pipe or file
+        (whose width Rich takes as 80 columns)."""
+        console = self._progress.console
+        console.print(message, markup=False, highlight=False, soft_wrap=not console.is_terminal)
 
     def close(self) -> None:
         """Stop the live display."""

@@ -73,6 +73,8 @@ class RunTask:
         prepare_files: Prepare the run folder's files (see :func:`run_files`).
         keep_population: Send the final population back (else only statistics and documents:
             the population is in the files).
+        waited: Seconds spent for the run before it started (its kernels compiled ahead), counted in
+            the time of its generation 0.
     """
 
     key: RunKey
@@ -83,6 +85,7 @@ class RunTask:
     threads: int | None = None
     prepare_files: bool = False
     keep_population: bool = True
+    waited: float = 0.0
 
     @property
     def run(self) -> int:
@@ -226,7 +229,9 @@ def run_task(task: RunTask, channel: Channel) -> RunOutcome:
 
         rng = run_rng(settings.seed, task.run)
         try:
-            result = evolve(problem, settings, rng, resume=resume, on_generation=on_generation)
+            result = evolve(
+                problem, settings, rng, resume=resume, on_generation=on_generation, waited=task.waited
+            )
         except _Stopped as stopped:
             return InterruptedRun(task.key, stopped.generation, stopped.saved)
         origin = {"seed": settings.seed, "run": task.run, "generation": settings.generations}

@@ -7,7 +7,14 @@ import json
 import numpy as np
 
 import mazegen
-from mazegen.runtime.campaigns.suite import DIFFICULTY_BIN, Bins, fill_archive, suite_documents, write_suite
+from mazegen.runtime.campaigns.suite import (
+    DIFFICULTY_BIN,
+    Bins,
+    SuiteSettings,
+    fill_archive,
+    suite_documents,
+    write_suite,
+)
 from mazegen.runtime.engine.problem import Problem
 from mazegen.runtime.navigation.measures import survey_of
 from tests.conftest import EXAMPLES
@@ -57,7 +64,8 @@ def test_archive_keeps_the_fittest_per_cell_and_suites_spread_over_it(tmp_path):
         low = document["metrics"]["difficulty"] // DIFFICULTY_BIN * DIFFICULTY_BIN
         assert document["origin"]["suite"]["difficulty"].startswith(f"{min(low, 45):g}")
 
-    write_suite(tmp_path / "suite", problem, archive, documents, force=False)
+    settings = SuiteSettings(seed=3, iterations=6, batch=400, size=8)
+    write_suite(tmp_path / "suite", problem, archive, documents, settings, force=False)
     names = sorted(path.name for path in (tmp_path / "suite").iterdir())
     assert (
         names[:3] == ["archive.json", "archive.png", "scenario-01.json"] and len(names) == 2 + 2 * 8 + 1
@@ -65,3 +73,4 @@ def test_archive_keeps_the_fittest_per_cell_and_suites_spread_over_it(tmp_path):
     assert (tmp_path / "suite" / "archive.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     record = json.loads((tmp_path / "suite" / "archive.json").read_text())
     assert record["filled"] == filled.size == len(record["cells"])
+    assert record["settings"] == {"seed": 3, "iterations": 6, "batch": 400, "size": 8}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import pytest
@@ -18,6 +19,7 @@ from mazegen.runtime.campaigns.sweep import (
     grid,
     parse_axes,
     plan_cells,
+    sweep_name,
 )
 from mazegen.runtime.catalog.catalog import Catalog
 from mazegen.runtime.catalog.catalog_query import run_rows
@@ -115,6 +117,14 @@ def test_sweep_command_fills_one_catalog_and_continues_when_rerun(tmp_path):
     assert changed.exit_code == 0, changed.output  # a new cell beside the old ones
     clash = CliRunner().invoke(main, [*args[:8], "3", *args[9:]])  # --runs 3: same names, other experiments
     assert clash.exit_code == 1 and "holds another experiment (use --force" in clash.stderr
+
+
+def test_a_sweep_is_named_after_every_spec_it_runs():
+    named = [dataclasses.replace(FACTORY, name=name) for name in ("factory", "hall", "factory", "yard")]
+    assert sweep_name(named[:1]) == "factory"
+    assert sweep_name(named) == "factory+hall+yard"  # a fitness variant of one scenario adds nothing
+    many = [dataclasses.replace(FACTORY, name=f"scenario_{n:03d}") for n in range(40)]
+    assert sweep_name(many) == "scenario_000+39-more"  # not a name longer than a folder may be
 
 
 def test_a_setting_is_given_in_one_set():

@@ -84,13 +84,15 @@ def texts(svg: str) -> list[str]:
     return [t.text or "" for t in ET.fromstring(svg).iter(f"{SVG}text")]
 
 
-def test_svg_parses_and_has_one_polygon_per_part(doc: dict) -> None:
+def test_svg_parses_and_has_one_shape_per_element(doc: dict) -> None:
     svg = scenario_svg(doc)
     root = ET.fromstring(svg)
     assert root.tag == f"{SVG}svg"
     assert svg.endswith("</svg>\n")
-    assert len(polygons(svg)) == 4
-    assert [p.get("fill") for p in polygons(svg)] == ["#e4572e", "#e4572e", "#1f77b4", "#1f77b4"]
+    shapes = [shape for shape in root.iter() if shape.tag in (f"{SVG}polygon", f"{SVG}path")]
+    kinds = [shape.tag.removeprefix(SVG) for shape in shapes]
+    assert kinds == ["polygon", "polygon", "path"]  # the router's two squares apart: one path
+    assert [shape.get("fill") for shape in shapes] == ["#e4572e", "#e4572e", "#1f77b4"]
 
 
 def test_svg_size_keeps_aspect_with_longest_side_pixels(doc: dict) -> None:
@@ -226,7 +228,8 @@ def test_elements_are_clipped_to_the_arena_in_svg(doc: dict) -> None:
     svg = scenario_svg(doc)
     root = ET.fromstring(svg)
     groups = [g for g in root.iter(f"{SVG}g") if g.findall(f"{SVG}polygon")]
-    assert len(groups) == 1 and len(groups[0].findall(f"{SVG}polygon")) == 5  # every part, in one group
+    assert len(groups) == 1 and len(groups[0].findall(f"{SVG}polygon")) == 3  # the router is a path
+    assert len(groups[0].findall(f"{SVG}path")) == 1  # every element, in one group
     reference = groups[0].get("clip-path", "")
     assert reference.startswith("url(#") and reference.endswith(")")
     (clip,) = [c for c in root.iter(f"{SVG}clipPath") if c.get("id") == reference[5:-1]]
@@ -467,3 +470,74 @@ def test_png_shows_each_trajectory(doc: dict) -> None:
 
     without = blue(scenario_png(doc))
     assert blue(scenario_png(driven(doc))) > without + 200
+
+
+def pixel_at(svg: str, x: float, y: float) -> tuple[float, float]:
+    """The picture's pixel (y down) of the point (x, y) of the fixtures' 1400 x 1050 arena."""
+    x0, y0, x1, y1 = frame_of(svg)
+    return x0 + (x1 - x0) * x / 1400, y1 - (y1 - y0) * y / 1050
+
+
+def test_a_timed_out_trajectory_ends_in_a_square_and_the_legend_shows_how_each_drive_ended(
+    doc: dict,
+) -> None:
+    doc = driven(doc)
+    wander = [[60, 60, 0], [700, 100, 0], [900, 600, 1]]
+    doc["drive"]["dwa"] = {"outcome": "timeout", "trajectory": wander, "collision": None}
+    svg = scenario_svg(doc)
+    root = ET.fromstring(svg)
+    drive = [g for g in root.iter(f"{SVG}g") if g.get("class") == "drive"]
+    straight, dwa = (line.get("stroke") for g in drive for line in g.findall(f"{SVG}polyline"))
+    (square_mark,) = [rect for g in drive for rect in g.findall(f"{SVG}rect")]
+    x, y = float(square_mark.get("x", "0")), float(square_mark.get("y", "0"))
+    width, height = float(square_mark.get("width", "0")), float(square_mark.get("height", "0"))
+    assert (x + width / 2, y + height / 2) == pytest.approx(pixel_at(svg, 900, 600), abs=0.02)
+    assert width == pytest.approx(height) and width > 4
+    assert square_mark.get("stroke") == dwa and square_mark.get("fill") == "none"
+    # The legend: each controller's line ends in the mark its drive ended with (none for an arrival).
+    children = list(root)
+    row = {child.text: children[i - 3 : i] for i, child in enumerate(children) if child.tag == f"{SVG}text"}
+    *_, line, mark = row["dwa: timeout"]
+    assert line.tag == f"{SVG}line" and line.get("stroke") == dwa
+    assert mark.tag == f"{SVG}rect" and mark.get("stroke") == dwa and mark.get("fill") == "none"
+    assert float(mark.get("x", "0")) + float(mark.get("width", "0")) / 2 == pytest.approx(
+        float(line.get("x2", "0")), abs=0.02
+    )
+    line, *cross = row["straight: collision"]
+    assert [shape.tag for shape in (line, *cross)] == [f"{SVG}line"] * 3
+    assert {shape.get("stroke") for shape in (line, *cross)} == {straight}
+    doc["drive"]["dwa"]["outcome"] = "arrived"
+    drive = [g for g in ET.fromstring(scenario_svg(doc)).iter(f"{SVG}g") if g.get("class") == "drive"]
+    assert not [rect for g in drive for rect in g.iter(f"{SVG}rect")]  # an arrival has no mark
+
+
+def bar(x0: float, y0: float, x1: float, y1: float) -> list[list[float]]:
+    """A counter-clockwise rectangle part from (x0, y0) to (x1, y1)."""
+    return [[x0, y0], [x1, y0], [x1, y1], [x0, y1]]
+
+
+def test_an_element_of_several_parts_is_one_outline_without_seams(doc: dict) -> None:
+    corner = element("lshape", "#8c564b", bar(100, 500, 500, 560), bar(100, 500, 160, 900))  # overlapping
+    frame = element(
+        "frame", "#9467bd", bar(700, 300, 1100, 340), bar(1060, 300, 1100, 700), bar(700, 660, 1100, 700),
+        bar(700, 300, 740, 700),
+    )  # fmt: skip
+    doc["elements"] = [corner, frame, doc["elements"][2]]  # and the router: two squares apart
+    svg = scenario_svg(doc)
+    (group,) = [g for g in ET.fromstring(svg).iter(f"{SVG}g") if g.get("class") == "elements"]
+    outlines = [shape for shape in group if shape.tag in (f"{SVG}polygon", f"{SVG}path")]
+    assert [shape.get("fill") for shape in outlines] == ["#8c564b", "#9467bd", "#1f77b4"]  # one shape each
+    assert outlines[0].tag == f"{SVG}polygon" and len(outlines[0].get("points", "").split()) == 6  # an L
+    for shape in outlines[1:]:  # the frame's outside and hole, the router's two squares
+        assert shape.tag == f"{SVG}path" and shape.get("fill-rule") == "evenodd"
+        assert shape.get("d", "").count("M") == 2 and shape.get("d", "").count("Z") == 2
+    image = pixels_of(scenario_png(doc))
+
+    def seen_at(x: float, y: float) -> list[int]:  # the PNG's colour at a point of the arena
+        column, row = (round(v) for v in pixel_at(svg, x, y))
+        return [int(channel) for channel in image[row, column]]
+
+    assert seen_at(130, 530) == pytest.approx(seen_at(300, 530), abs=3)  # the parts' overlap: no darker
+    assert seen_at(130, 530) == pytest.approx(seen_at(130, 700), abs=3)
+    assert seen_at(900, 500) == [255, 255, 255]  # the frame's hole shows the floor
+    assert seen_at(720, 500) == pytest.approx(seen_at(900, 320), abs=3)

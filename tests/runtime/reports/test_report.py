@@ -7,6 +7,7 @@ import csv
 import html.parser
 import io
 import json
+import re
 import shutil
 import subprocess
 import xml.etree.ElementTree as ET
@@ -19,8 +20,8 @@ from PIL import Image
 import mazegen
 from mazegen.cli.main import main
 from mazegen.errors import MazeError
-from mazegen.runtime.campaigns.suite import fill_archive, suite_documents, write_suite
-from mazegen.runtime.reports.report import read_run, report_html, statistic_table
+from mazegen.runtime.campaigns.suite import SuiteSettings, fill_archive, suite_documents, write_suite
+from mazegen.runtime.reports.report import distribution_chart, read_run, report_html, statistic_table
 from mazegen.runtime.reports.report_html import THUMBNAIL_PIXELS, phenotype_html
 from mazegen.runtime.reports.spec_words import evolution_words, scenario_words, term_words
 from mazegen.spec import Evolution
@@ -173,6 +174,28 @@ def test_run_times_come_from_timing_csv_when_stats_have_none(factory_run, tmp_pa
     assert read_run(run).seconds == pytest.approx(expected)
 
 
+def test_run_times_keep_their_digits(factory_run, tmp_path):
+    # A run of a sweep's tiny cells takes a few milliseconds, shown as "0.00" seconds.
+    run = tmp_path / "run"
+    shutil.copytree(factory_run, run)
+    rows = list(csv.DictReader((run / "timing.csv").open()))
+    with (run / "timing.csv").open("w", newline="") as out:
+        writer = csv.DictWriter(out, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows({**row, "seconds": "0.0004" if row["run"] == "1" else "123.456"} for row in rows)
+    (runs,) = [table for table in report_html(read_run(run)).split("<table>") if "<th>seconds</th>" in table]
+    seconds = [row.split("<td>")[-1].split("</td>")[0] for row in runs.split("</table>")[0].split("<tr>")[2:]]
+    assert seconds == ["0.0016", "494"]  # four generations each
+
+
+def test_element_counts_all_alike_get_whole_ticks():
+    documents = [{"elements": [{}] * 16, "metrics": {"difficulty": 10.0 * n}} for n in range(1, 4)]
+    chart = ET.fromstring(distribution_chart(documents))
+    numbers = [t.text or "" for t in chart.iter(f"{SVG}text") if re.fullmatch(r"[\d.]+", t.text or "")]
+    assert "16" in numbers
+    assert all(number.isdigit() for number in numbers), numbers  # not 15.6, 15.8 ... 16.4
+
+
 def test_settings_are_written_as_the_language_writes_them(factory_run):
     text = report_html(read_run(factory_run))
     for words in ("codons 0..255", "selection truncation 0.1", "solvable required", "outside penalty 1"):
@@ -262,7 +285,8 @@ def test_a_report_of_many_runs_draws_one_scenario_per_run(tmp_path):
 def test_a_suite_folder(factory, tmp_path):
     archive = fill_archive(factory, seed=1, iterations=2, batch=100)
     documents = suite_documents(factory, archive, 3, seed=1)
-    write_suite(tmp_path / "suite", factory, archive, documents, force=False)
+    settings = SuiteSettings(seed=1, iterations=2, batch=100, size=3)
+    write_suite(tmp_path / "suite", factory, archive, documents, settings, force=False)
     result = CliRunner().invoke(main, ["report", str(tmp_path / "suite")], catch_exceptions=False)
     assert result.exit_code == 0, result.output
     text = (tmp_path / "suite" / "report.html").read_text(encoding="utf-8")
@@ -289,6 +313,40 @@ def test_a_sweep_folder(tmp_path):
     assert "population 30" in page.text and "population 40" in page.text
     drawings = [image for image in page.images if (image.get("alt") or "").startswith("run ")]
     assert len(drawings) == 2  # the fittest scenario of each cell
+
+
+def test_a_suite_report_shows_the_settings_the_suite_used(tmp_path):
+    suite = tmp_path / "suite"
+    args = ["suite", str(EXAMPLES / "factory.maze"), "--size", "2", "--seed", "5", "--iterations", "1"]
+    result = CliRunner().invoke(main, [*args, "--batch", "60", "-q", "-o", str(suite)])
+    assert result.exit_code == 0, result.output
+    assert CliRunner().invoke(main, ["report", str(suite)]).exit_code == 0
+    text = Page((suite / "report.html").read_text(encoding="utf-8")).text
+    settings = text[text.index("Settings") : text.index("Archive")]
+    for row in (["seed", "5"], ["iterations", "1"], ["batch", "60"], ["size", "2"]):
+        assert row in [settings[i : i + 2] for i in range(len(settings))]  # the suite's table
+    blocks = "\n".join(settings)
+    for used in ("genome 32", "crossover variable within used 0.9", "codons 0..255", "wraps 0", "consume"):
+        assert used in blocks
+    for unused in ("population", "generations", "selection", "elitism", "runs", "best", "seed 1"):
+        assert unused not in blocks  # the spec's, which the suite did not use
+
+
+def test_a_sweep_of_two_specs_is_named_after_both(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    specs = [str(EXAMPLES / "factory.maze"), str(EXAMPLES / "table1" / "exp3.maze")]
+    args = ["sweep", *specs, "--set", "population=30", "--set", "generations=1", "--runs", "1"]
+    result = CliRunner().invoke(main, [*args, "--executor", "serial", "-q"])
+    assert result.exit_code == 0, result.output
+    out = tmp_path / "sweeps" / "factory+table1_exp3"
+    assert result.output.splitlines()[-1] == f"wrote {out.relative_to(tmp_path)}"
+    assert (out / "catalog.sqlite").is_file()
+    assert CliRunner().invoke(main, ["report", str(out)]).exit_code == 0
+    page = (out / "report.html").read_text(encoding="utf-8")
+    assert "<h1>MazeGen sweep: factory+table1_exp3</h1>" in page
+    assert "2 finished cells of the scenarios factory, table1_exp3" in page
+    for scenario in ("scenario factory on floor {", "scenario table1_exp3 on canvas {"):
+        assert scenario in page  # each spec's settings
 
 
 def test_a_folder_of_something_else(tmp_path):
