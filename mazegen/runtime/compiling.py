@@ -1,4 +1,4 @@
-"""Saying so when a command waits for numba to compile kernels.
+"""How kernels compile, and saying so when a command waits for numba to compile them.
 
 numba compiles a kernel the first time a process calls it, unless this version's compiled code is
 in the kernel cache (:mod:`mazegen.runtime`). A command that may be the first to call some kernel
@@ -13,7 +13,12 @@ import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 
+from numba import njit
 from numba.core import event
+
+inner_kernel = njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-overload]  # not in numba's stubs
+"""The decorator of a kernel that only other kernels call: compiled without the wrapper that lets
+Python call it, which a first run would spend seconds on (docs/architecture.md, Compiling)."""
 
 RUN_SECONDS = 20
 """Seconds a first run compiles for, at most, on a quiet 2-core machine (``benchmarks/startup.py``)."""

@@ -19,7 +19,11 @@ def _kernels() -> list[tuple[Path, ast.FunctionDef, str]]:
     for path in sorted(RUNTIME.rglob("*.py")):
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
             if isinstance(node, ast.FunctionDef):
-                decorators = [ast.unparse(d) for d in node.decorator_list if "njit" in ast.unparse(d)]
+                decorators = [
+                    ast.unparse(d)
+                    for d in node.decorator_list
+                    if "njit" in ast.unparse(d) or ast.unparse(d) == "inner_kernel"
+                ]
                 if decorators:
                     found.append((path, node, decorators[0]))
     return found
@@ -65,6 +69,6 @@ def test_kernels_have_a_python_wrapper_exactly_when_python_calls_them():
     wrong = [
         f"{path.name}:{node.lineno} {node.name}"
         for path, node, decorator in kernels
-        if ("no_cpython_wrapper=True" in decorator) == (outside.get(node.name, 0) > 0)
+        if (decorator == "inner_kernel") == (outside.get(node.name, 0) > 0)
     ]
     assert wrong == []

@@ -137,7 +137,7 @@ def _crossing(settings: Evolution, usage: Usage | None) -> tuple[tuple | None, t
     return None, (settings.crossover, variable, usage.codons, usage.element_codons)
 
 
-def _mutating(settings: Evolution) -> tuple:
+def _mutating(settings: Evolution) -> tuple[float, float, int, type]:
     """The mutation as the kernels take it: rate, gap scale, largest codon and the type codons are
     drawn in."""
     return (
@@ -148,7 +148,7 @@ def _mutating(settings: Evolution) -> tuple:
     )
 
 
-def _mutating_whole(settings: Evolution) -> tuple | None:
+def _mutating_whole(settings: Evolution) -> tuple[float, float, int, type] | None:
     """The mutation over whole genomes, made with the crossover; None when it is within the used
     codons (made after the children are mapped), which the kernels then leave out."""
     return _mutating(settings) if settings.mutation_operator == "within genome" else None

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.engine.population import GENE_MAX, PLACEMENT_GENES
 
 
@@ -87,7 +88,7 @@ def draw_tournaments(rng, fitness, size, count):  # pragma: no cover - compiled
     return _tournament_winners(fitness, entrants.reshape(count, size))
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _tournament_winners(fitness, entrants):  # pragma: no cover - compiled
     winners = np.empty(entrants.shape[0], np.int64)
     for t in range(entrants.shape[0]):
@@ -168,7 +169,7 @@ def draw_hits(rng, total, rate, scale):  # pragma: no cover - compiled
     return hits[:found]
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _add_gaps(exponentials, scale, total, hits, found, position):  # pragma: no cover - compiled
     """Step from ``position`` by geometric gaps, recording positions below ``total`` in ``hits``."""
     for e in exponentials:
@@ -302,7 +303,7 @@ def cross_pairs(
         )
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _copy_crossed(source, first, second, cut, out, pair):  # pragma: no cover - compiled
     width = source.shape[1]
     copy_span(source, first, np.int64(0), out, 2 * pair, np.int64(0), cut)

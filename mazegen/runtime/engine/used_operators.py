@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 from numba.np.random.random_methods import buffered_bounded_lemire_uint32 as lemire_uint32
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.engine.mapping import PopulationMap
 from mazegen.runtime.engine.operators import MutationDraws, codon_type, copy_span, draw_mutation, gap_scale
 from mazegen.runtime.engine.population import PLACEMENT_GENES
@@ -161,7 +162,7 @@ def draw_cuts(rng, used, rate, variable):  # pragma: no cover - compiled
     return crossing, first, second
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _one_to(rng, high):  # pragma: no cover - compiled
     """An integer uniform in ``1..max(high, 1)``, drawn as NumPy's ``integers(1, high + 1)`` draws it:
     numba's own port of NumPy's Lemire draw, called directly because numba's ``integers`` allocates
@@ -223,7 +224,7 @@ def splice_pairs(
         )
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _elements_within(element_codons, cut):  # pragma: no cover - compiled
     """Elements complete once the first ``cut`` codons are read (they are in codon order)."""
     count = 0

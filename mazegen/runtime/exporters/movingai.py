@@ -17,12 +17,13 @@ import math
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.exporters.floor import ExportOptions, Floor
 
 SQRT2 = math.sqrt(2.0)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _octile(dr, dc):  # pragma: no cover - compiled
     """Octile distance over ``dr`` rows and ``dc`` columns."""
     low, high = min(abs(dr), abs(dc)), max(abs(dr), abs(dc))

@@ -12,6 +12,8 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
+from mazegen.runtime.compiling import inner_kernel
+
 ONE = np.uint64(1)
 ALL = np.uint64(0xFFFFFFFFFFFFFFFF)
 HIGH = np.uint64(63)
@@ -52,7 +54,7 @@ def popcount(x):  # pragma: no cover - compiled
     return int(_ctpop(x))
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def span_mask(first, last, w):  # pragma: no cover - compiled
     """The bits of word ``w`` that lie in columns ``first..last`` (``w`` within their words)."""
     lo = first - 64 * w if w == first >> 6 else 0

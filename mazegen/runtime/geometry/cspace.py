@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.bits import HIGH, ONE, is_set, popcount, set_block
 from mazegen.runtime.geometry.elements import world_element
 
@@ -197,7 +198,7 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     return occupied_cells
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _widen_flat(source, out):  # pragma: no cover - compiled
     """``out`` = ``source`` with every set bit spread one column to each side (one flat bit string)."""
     last = source.shape[0] - 1
@@ -208,7 +209,7 @@ def _widen_flat(source, out):  # pragma: no cover - compiled
     out[last] = source[last] | (source[last] << ONE) | (source[last] >> ONE) | (source[last - 1] >> HIGH)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cover - compiled
     """Set every cell that convex part ``p`` of element ``k`` touches."""
     if box[2] < 0.0 or box[3] < 0.0 or box[0] > cols * cell or box[1] > rows * cell:
@@ -250,7 +251,7 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
         set_block(occupied, r, r, c0, c1)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
     """Whether every edge of the 4-vertex part ``p`` of element ``k`` is horizontal or vertical."""
     for v in range(4):

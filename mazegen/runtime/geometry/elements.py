@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.threads import in_blocks
 from mazegen.spec import ElementType
 
@@ -152,7 +153,7 @@ _DP2 = 3.77489470793079817668e-8
 _DP3 = 2.69515142907905952645e-15
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _sincos(x):
     """Return ``(sin x, cos x)`` to about one ulp for ``|x| < 1e8``."""
     sign = math.copysign(1.0, x)

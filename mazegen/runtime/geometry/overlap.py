@@ -13,6 +13,7 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.elements import ElementTable, population_arrays, world_element
 from mazegen.runtime.threads import in_blocks
 
@@ -91,13 +92,13 @@ def _count(
 _REACH_MARGIN = 1.0 + 1e-9
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _reach(unit_radius, offset_radius, e, sx, sy):
     """Radius around its position that contains element type ``e`` at scale ``(sx, sy)``."""
     return (unit_radius[e] * max(sx, sy) + offset_radius[e]) * _REACH_MARGIN
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _boxes_meet(box, a, b):
     """True if two boxes' interiors intersect (touching boxes do not meet).
 
@@ -109,7 +110,7 @@ def _boxes_meet(box, a, b):
     )
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _edge_separates(wv, ka, pa, na, kb, pb, nb):
     """True if some edge line of convex CCW polygon A has all of B on its outer side.
 
@@ -133,7 +134,7 @@ def _edge_separates(wv, ka, pa, na, kb, pb, nb):
     return False
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox):
     """True if some part of element ``a`` (type ``ea``) overlaps some part of ``b`` (type ``eb``)."""
     for pa in range(n_parts[ea]):

@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.bits import ONE
 from mazegen.runtime.geometry.cspace import grid_args, grid_of, is_free, point_grid_of
 from mazegen.runtime.geometry.rectangles import row_runs_of, run_arrays
@@ -239,7 +240,7 @@ def path_cells(corners, turns, free, cell, cols, out):  # pragma: no cover - com
     return count
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _free_cell_at(free, x, y, cols):  # pragma: no cover - compiled
     """A free cell holding the point ``(x, y)`` (in cells), or (-1, -1)."""
     r0, c0 = math.floor(y), math.floor(x)
@@ -256,7 +257,7 @@ def _free_cell_at(free, x, y, cols):  # pragma: no cover - compiled
     return -1, -1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _path_metrics(free, cols, arrays, cells, count, reach, cell, out):  # pragma: no cover - compiled
     """Write the per-cell metrics' averages over the ``count`` path cells into ``out``
     (``arrays`` as :func:`fill_free_steps` leaves them for ``free``)."""

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.cspace import Grid, cspace, grid_args, raster_arrays, straight_free, unpack
 from mazegen.runtime.geometry.rectangles import (
     ABOVE,
@@ -212,7 +213,7 @@ def route(shapes, ids, count, params, grid, scratch):  # pragma: no cover - comp
     return occupied, found, total, turns
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
     """Scratch arrays of one search over at most ``capacity`` rectangles."""
     return (
@@ -224,7 +225,7 @@ def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  # pragma: no cover - compiled
     """Search rectangle ``start`` → ``goal``; returns (found, path length, corners written to ``corners``).
 
@@ -304,7 +305,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     return True, total * cell, turns
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
     entries[used, 0] = heads[bucket]
     entries[used, 1] = node
@@ -312,7 +313,7 @@ def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
     return used + 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma: no cover - compiled
     """The shortest path from start to goal through the corridor's portals, in cell units: (length, corners).
 
@@ -371,7 +372,7 @@ def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma:
     return total + math.sqrt((gx - ax) * (gx - ax) + (gy - ay) * (gy - ay)), turns + 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _portal(portals, n, lx, ly, rx, ry):  # pragma: no cover - compiled
     portals[n, 0], portals[n, 1], portals[n, 2], portals[n, 3] = lx, ly, rx, ry
 

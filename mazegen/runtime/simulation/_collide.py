@@ -21,11 +21,13 @@ import math
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
+
 NO_HIT = np.inf
 """What :func:`sweep` returns when the segment touches nothing."""
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _slab(q0, qd, lo, hi, enter, leave):  # pragma: no cover - compiled
     """Narrow ``[enter, leave]`` to the ``t`` where ``lo ≤ q0 + t·qd ≤ hi``."""
     if qd == 0.0:
@@ -58,7 +60,7 @@ def disc_entry(px, py, dx, dy, cx, cy, r):  # pragma: no cover - compiled
     return t if t <= 1.0 else NO_HIT
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _edge_slab_entry(px, py, dx, dy, ax, ay, bx, by, r):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``p + t·d`` is within ``r`` of segment ``ab`` through its side
     (the slab over the edge; the discs at its ends are tested separately), else ``NO_HIT``."""
@@ -76,7 +78,7 @@ def _edge_slab_entry(px, py, dx, dy, ax, ay, bx, by, r):  # pragma: no cover - c
     return enter if enter <= leave else NO_HIT
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _edge(vertices, n, k, px, py):  # pragma: no cover - compiled
     """Edge ``k`` of a counter-clockwise part, ``(ax, ay, bx, by)``, and whether ``p`` is on its
     inner side (or on it): ``p`` is inside the part when it is for every edge."""
@@ -86,7 +88,7 @@ def _edge(vertices, n, k, px, py):  # pragma: no cover - compiled
     return ax, ay, bx, by, (bx - ax) * (py - ay) - (by - ay) * (px - ax) >= 0.0
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def part_entry(px, py, dx, dy, vertices, n, r):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``p + t·d`` is within ``r`` of the convex part (``n``
     counter-clockwise ``vertices``), else ``NO_HIT``."""
@@ -100,7 +102,7 @@ def part_entry(px, py, dx, dy, vertices, n, r):  # pragma: no cover - compiled
     return 0.0 if inside else best
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _wall_entry(q, qd, r, far):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``q + t·qd`` is within ``r`` of 0 or of ``far``."""
     if q <= r or q >= far - r:
@@ -114,7 +116,7 @@ def _wall_entry(q, qd, r, far):  # pragma: no cover - compiled
     return t if t <= 1.0 else NO_HIT
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _segment_distance2(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
     """Squared distance from ``p`` to segment ``ab``."""
     ex = bx - ax
@@ -128,7 +130,7 @@ def _segment_distance2(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
     return gx * gx + gy * gy
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def part_distance(px, py, vertices, n):  # pragma: no cover - compiled
     """Distance from point ``p`` to the convex part (0 inside)."""
     best = np.inf

@@ -18,6 +18,8 @@ import math
 
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
+
 LIMITS = ("max_speed", "min_speed", "max_turn", "accel", "turn_accel", "step", "radius", "goal_tolerance")
 """The order of the ``limits`` array every controller kernel reads."""
 MAX_SPEED, MIN_SPEED, MAX_TURN, ACCEL, TURN_ACCEL, STEP, RADIUS, GOAL_TOLERANCE = range(8)
@@ -40,7 +42,7 @@ def straight_command(
     out[1] = params[0] * error
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _closest(path, x, y):  # pragma: no cover - compiled
     """Segment index and fraction of the point of polyline ``path`` nearest ``(x, y)``."""
     best = math.inf
@@ -58,7 +60,7 @@ def _closest(path, x, y):  # pragma: no cover - compiled
     return segment, fraction
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def carrot(path, x, y, reach):  # pragma: no cover - compiled
     """The lookahead point: walking ``path`` on from its point nearest ``(x, y)``, the first point
     ``reach`` away from ``(x, y)``; the path's end when all of it is nearer."""

@@ -35,6 +35,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._controllers import (
     ACCEL,
     MAX_SPEED,
@@ -130,7 +131,7 @@ def dwa_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
                 out[0], out[1] = v, w
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _sample(lo, hi, count, k, zero):  # pragma: no cover - compiled
     """Sample ``k`` of ``count`` over ``[lo, hi]``, ends included; with ``zero``, sample 0 is 0 and
     the other ``count - 1`` spread over the window."""
@@ -144,7 +145,7 @@ def _sample(lo, hi, count, k, zero):  # pragma: no cover - compiled
     return lo + (hi - lo) * k / (count - 1)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _nearest(value, lo, hi, count, offset):  # pragma: no cover - compiled
     """Index of the evenly spread sample nearest ``value`` (after ``offset`` leading samples)."""
     spread = count - offset
@@ -154,7 +155,7 @@ def _nearest(value, lo, hi, count, offset):  # pragma: no cover - compiled
     return offset + min(max(k, 0), spread - 1)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _score(
     params, x, y, theta, ex, ey, v, w, horizon, limit, radius, nav, clear, frame, path, first, last, budget
 ):  # pragma: no cover - compiled
@@ -201,7 +202,7 @@ def _score(
     return ends + weight * obstacle
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _clear_at(clear, frame, x, y):  # pragma: no cover - compiled
     """The clearance field at ``(x, y)`` (its cell's value), 0 outside the grid; ``frame`` =
     ``(x0, y0, 1 / cell, cell)``."""
@@ -215,7 +216,7 @@ def _clear_at(clear, frame, x, y):  # pragma: no cover - compiled
     return clear[r, c]
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _nav_at(nav, frame, x, y):  # pragma: no cover - compiled
     """The navigation function at ``(x, y)`` (its cell's value), ``inf`` outside the grid."""
     u = (x - frame[0]) * frame[2]
@@ -228,7 +229,7 @@ def _nav_at(nav, frame, x, y):  # pragma: no cover - compiled
     return float(nav[r, c])
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _near_segments(path, x, y, reach):  # pragma: no cover - compiled
     """``(first, last)``: the span of path segments that may hold the nearest path point of any
     point within ``reach`` of ``(x, y)`` (those within the nearest segment's distance + 2 reach)."""
@@ -244,7 +245,7 @@ def _near_segments(path, x, y, reach):  # pragma: no cover - compiled
     return first, last
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _to_path(path, x, y, first, last):  # pragma: no cover - compiled
     """Squared distance from ``(x, y)`` to path segments ``first..last`` (0 when there are none)."""
     if last < first:

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.bits import is_set
 from mazegen.runtime.geometry.cspace import cspace, grid_args, grid_of, raster_arrays
 from mazegen.runtime.navigation.paths import kernel_args
@@ -131,7 +132,7 @@ def clearance(occupied, cell, extent, out, scratch):  # pragma: no cover - compi
             out[r, c] = min(math.sqrt(done[c]) * cell, edge)
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _lower_envelope(f, n, hull, bounds, out):  # pragma: no cover - compiled
     """``out[:n]``: the 1D squared distance transform ``min_q (p - q)² + f[q]`` of ``f[:n]``
     (Felzenszwalb and Huttenlocher's lower envelope of parabolas)."""
@@ -222,7 +223,7 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
                     pending += 1
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _file(keys, cells, links, heads, used, key, value, slot):  # pragma: no cover - compiled
     """Put ``(key, value)`` first in bucket ``slot``, in entry ``used``; returns the next free entry."""
     keys[used], cells[used], links[used] = key, value, heads[slot]

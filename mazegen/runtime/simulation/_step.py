@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._collide import NO_HIT, disc_entry, distance, sweep
 from mazegen.runtime.simulation._controllers import (
     ACCEL,
@@ -109,7 +110,7 @@ def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no co
         outcome[m] = ARRIVED
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _window(command, current, change, low, high):  # pragma: no cover - compiled
     return min(max(min(max(command, current - change), current + change), low), high)
 

@@ -26,6 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._controllers import MAX_SPEED, MAX_TURN, RADIUS, wrap
 
 # Parameters, in the order of mazegen/controllers.py's "vfh" entry.
@@ -70,12 +71,12 @@ def vfh_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
     out[1] = params[HEADING_GAIN] * steer
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _free(density, seen, s, threshold):  # pragma: no cover - compiled
     return seen[s] and density[s] <= threshold
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _opening(density, seen, threshold, width, wide, bearing):  # pragma: no cover - compiled
     """The candidate direction (robot frame) nearest ``bearing`` over every opening; ``inf`` if none."""
     n = density.shape[0]
@@ -109,7 +110,7 @@ def _opening(density, seen, threshold, width, wide, bearing):  # pragma: no cove
     return best
 
 
-@njit(cache=True, no_cpython_wrapper=True)
+@inner_kernel
 def _sector(angle, width, n):  # pragma: no cover - compiled
     """The sector holding ``angle`` (radians from the heading); sector 0 starts at -pi."""
     if not -math.pi <= angle < math.pi:  # beam angles are already: no remainder to take
