@@ -10,6 +10,7 @@ section, and its picture, to the same relative place in ``DIR``.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.metadata
 import json
 from collections.abc import Sequence
@@ -21,6 +22,7 @@ import click
 from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
+from mazegen.text import printable
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents.driving import Drive, Floors, Summary
@@ -101,31 +103,35 @@ def drive(
     names = controller_names(controllers)
     from mazegen.runtime.documents.driving import Floors, summaries
     from mazegen.runtime.exporters.batch import scenario_files
+    from mazegen.runtime.runs.locks import folder_in_use
     from mazegen.runtime.runs.progress import QuietReporter, note_first_compile
 
     resolved = _load_spec(spec)
-    files = scenario_files(source)
-    note_first_compile(QuietReporter(), kernels=DRIVE_KERNELS)  # on standard error, as every note
-    loaded, failed = _load_floors(files, resolved)
-    drives: list[list[Drive]] = []
-    floors_of: list[Floor] = []
-    for group_spec, floors in _by_spec(loaded).items():
-        batch = Floors.of(group_spec, [(floor.where, floor.document) for floor in floors])
-        for file in batch.without_path:
-            click.echo(no_path_line(file, batch), err=True)
-        drives += batch.drive(names)
-        floors_of += floors
-    if as_json:
-        for row in drives:
-            for result in row:
-                click.echo(json.dumps(result.record(), allow_nan=False))
-    elif drives:
-        unit = floors_of[0].spec.arena.unit if floors_of[0].spec else ""
-        click.echo(drive_table([result for row in drives for result in row], unit))
-        click.echo()
-        click.echo(summary_table(summaries(drives, names)))
-    if out is not None:
-        _write(floors_of, drives, {path: sub for path, sub in files}, out)
+    # -o: the folder is held from the first read to the last write; a second drive into it, a run or
+    # a resume of it is refused meanwhile, instead of one overwriting the other's results.
+    with contextlib.nullcontext() if out is None else folder_in_use(out):
+        files = scenario_files(source)
+        note_first_compile(QuietReporter(), kernels=DRIVE_KERNELS)  # on standard error, as every note
+        loaded, failed = _load_floors(files, resolved)
+        drives: list[list[Drive]] = []
+        floors_of: list[Floor] = []
+        for group_spec, floors in _by_spec(loaded).items():
+            batch = Floors.of(group_spec, [(floor.where, floor.document) for floor in floors])
+            for file in batch.without_path:
+                click.echo(no_path_line(file, batch), err=True)
+            drives += batch.drive(names)
+            floors_of += floors
+        if as_json:
+            for row in drives:
+                for result in row:
+                    click.echo(json.dumps(result.record(), allow_nan=False))
+        elif drives:
+            unit = floors_of[0].spec.arena.unit if floors_of[0].spec else ""
+            click.echo(drive_table([result for row in drives for result in row], unit))
+            click.echo()
+            click.echo(summary_table(summaries(drives, names)))
+        if out is not None:
+            _write(floors_of, drives, {path: sub for path, sub in files}, out)
     if failed:
         raise SystemExit(1)
 
@@ -140,7 +146,8 @@ def _load_spec(path: Path | None) -> Spec | None:
 
 def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[list[Floor], bool]:
     """Each scenario file read, completed from its spec and checked against it; one that cannot be
-    is reported on one line and left out (a lone file's error ends the command)."""
+    is reported on one line and left out (a lone file's error ends the command). A floor with a start
+    and goal of its own is driven on them, with a note."""
     from mazegen.runtime.exporters.floor import load_floor
 
     floors, failed = [], False
@@ -153,6 +160,9 @@ def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[lis
             skip_file(error, alone=len(files) == 1)
             failed = True
             continue
+        note = floor.task_note("driven")
+        if note is not None:
+            click.echo(note, err=True)
         floors.append(floor)
     return floors, failed
 
@@ -171,8 +181,8 @@ def no_path_line(file: str, floors: Floors) -> str:
     arena = floors.spec.arena
     start, goal = (f"({x:g}, {y:g})" for x, y in (arena.start, arena.goal))
     return (
-        f"{file}: no path for a robot of radius {arena.robot_radius:g} {arena.unit} from start {start} "
-        f"to goal {goal}: not driven"
+        f"{printable(file)}: no path for a robot of radius {arena.robot_radius:g} {arena.unit} "
+        f"from start {start} to goal {goal}: not driven"
     )
 
 
@@ -237,4 +247,4 @@ def _write(floors: list[Floor], drives: list[list[Drive]], subfolders: dict[Path
         document = with_drives(floor.document, row)
         write_atomic(target, dumps(document))
         render_file(document, target.with_suffix(".svg"))
-    click.echo(f"wrote {len(floors)} scenarios and their pictures to {out}", err=True)
+    click.echo(f"wrote {len(floors)} scenarios and their pictures to {printable(str(out))}", err=True)
