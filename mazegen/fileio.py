@@ -1,9 +1,11 @@
-"""File I/O with user-facing guarantees: atomic writes, one-line read errors."""
+"""File I/O with user-facing guarantees: atomic writes, one-line read errors, only regular files read."""
 
 from __future__ import annotations
 
 import json
 import os
+import stat
+import sys
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -11,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from mazegen.errors import MazeError
+from mazegen.text import printable
 
 
 def _umask() -> int:
@@ -66,19 +69,69 @@ def write_atomic(path: Path, data: str | bytes) -> None:
             raise
 
 
+_KINDS = {stat.S_IFDIR: "a folder", stat.S_IFIFO: "a FIFO", stat.S_IFSOCK: "a socket"}
+
+
+def _not_regular(mode: int) -> str | None:
+    """What a file of ``mode`` is when it is not a regular file (``a FIFO, not a regular file``)."""
+    if stat.S_ISREG(mode):
+        return None
+    return f"{_KINDS.get(stat.S_IFMT(mode), 'a device')}, not a regular file"
+
+
+def read_bytes(path: Path, what: str, *, limit: int = -1) -> bytes:
+    """The bytes of a regular file (at most ``limit``); anything else is a one-line :class:`MazeError`.
+
+    A FIFO is opened without waiting and refused: reading one would wait for a writer forever,
+    and a device may never end.
+
+    Args:
+        path: The file.
+        what: What the file is, for the message (``spec``, ``scenario``…).
+        limit: Read no more than this many bytes (-1: all).
+    """
+    try:
+        with open(os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0)), "rb") as file:
+            kind = _not_regular(os.fstat(file.fileno()).st_mode)
+            if kind is None:
+                return file.read(limit)
+    except OSError as error:
+        raise MazeError(f"cannot read {what}: {error.strerror or error}", filename=str(path)) from None
+    raise MazeError(f"cannot read {what}: {kind}", filename=str(path))
+
+
 def read_text(path: Path, what: str) -> str:
-    """Read a UTF-8 text file; a missing or unreadable file is a one-line :class:`MazeError`.
+    """Read a UTF-8 text file; a missing or unreadable file, or one that is not a regular file, is a
+    one-line :class:`MazeError`.
 
     Args:
         path: The file.
         what: What the file is, for the message (``spec``, ``scenario``…).
     """
     try:
-        return path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise MazeError(f"cannot read {what}: {error.strerror or error}", filename=str(path)) from None
+        return read_bytes(path, what).decode("utf-8")
     except UnicodeDecodeError:
         raise MazeError(f"cannot read {what}: not UTF-8 text", filename=str(path)) from None
+
+
+def found_files(folder: Path, pattern: str) -> list[Path]:
+    """The regular files ``folder.glob(pattern)`` finds, in name order.
+
+    Any other entry a name matches (a FIFO, a device, a folder) is said on one line of standard
+    error and skipped, never opened: a FIFO would keep its reader waiting forever. One that cannot
+    be looked at (a dangling link) stays, for its reader to report.
+    """
+    found = []
+    for path in sorted(folder.glob(pattern)):
+        try:
+            kind = _not_regular(path.stat().st_mode)
+        except OSError:
+            kind = None
+        if kind is None:
+            found.append(path)
+        else:
+            print(f"{printable(str(path))}: skipped: {kind}", file=sys.stderr)
+    return found
 
 
 def json_value(text: str) -> Any:

@@ -9,6 +9,7 @@ import click
 from mazegen.cli.errors import reports_errors
 from mazegen.dsl.loader import load_spec
 from mazegen.generator.build import build as build_files
+from mazegen.text import printable
 
 
 @click.command()
@@ -25,4 +26,4 @@ def build(spec: str, out: Path | None) -> None:
     resolved = load_spec(spec)
     target = out or Path("build") / resolved.name
     for path in build_files(resolved, target):
-        click.echo(str(path))
+        click.echo(printable(str(path)))

@@ -10,9 +10,11 @@ section, and its picture, to the same relative place in ``DIR``.
 
 from __future__ import annotations
 
+import contextlib
 import importlib.metadata
 import json
 from collections.abc import Sequence
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
@@ -22,6 +24,7 @@ from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
 from mazegen.policies import is_policy_path, malformed_path
+from mazegen.text import printable
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents.driving import Drive, Floors, Summary
@@ -105,30 +108,35 @@ def drive(
     from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
     from mazegen.runtime.documents.driving import Floors, summaries
     from mazegen.runtime.exporters.batch import scenario_files
+    from mazegen.runtime.runs.locks import folder_in_use
 
     resolved = _load_spec(spec)
-    files = scenario_files(source)
-    loaded, failed = _load_floors(files, resolved)
-    drives: list[list[Drive]] = []
-    floors_of: list[Floor] = []
-    with noting_compiles(lambda note: click.echo(note, err=True), "drive", DRIVE_SECONDS):
-        for group_spec, floors in _by_spec(loaded).items():
-            batch = Floors.of(group_spec, [(floor.where, floor.document) for floor in floors])
-            for file in batch.without_path:
-                click.echo(no_path_line(file, batch), err=True)
-            drives += batch.drive(names)
-            floors_of += floors
-    if as_json:
-        for row in drives:
-            for result in row:
-                click.echo(json.dumps(result.record(), allow_nan=False))
-    elif drives:
-        unit = floors_of[0].spec.arena.unit if floors_of[0].spec else ""
-        click.echo(drive_table([result for row in drives for result in row], unit))
-        click.echo()
-        click.echo(summary_table(summaries(drives, names)))
-    if out is not None:
-        _write(floors_of, drives, {path: sub for path, sub in files}, out)
+    say = partial(click.echo, err=True)
+    # -o: the folder is held from the first read to the last write; a second drive into it, a run or
+    # a resume of it is refused meanwhile, instead of one overwriting the other's results.
+    with contextlib.nullcontext() if out is None else folder_in_use(out):
+        files = scenario_files(source)
+        loaded, failed = _load_floors(files, resolved)
+        drives: list[list[Drive]] = []
+        floors_of: list[Floor] = []
+        with noting_compiles(say, "drive", DRIVE_SECONDS):
+            for group_spec, floors in _by_spec(loaded).items():
+                batch = Floors.of(group_spec, [(floor.where, floor.document) for floor in floors])
+                for file in batch.without_path:
+                    say(no_path_line(file, batch))
+                drives += batch.drive(names)
+                floors_of += floors
+        if as_json:
+            for row in drives:
+                for result in row:
+                    click.echo(json.dumps(result.record(), allow_nan=False))
+        elif drives:
+            unit = floors_of[0].spec.arena.unit if floors_of[0].spec else ""
+            click.echo(drive_table([result for row in drives for result in row], unit))
+            click.echo()
+            click.echo(summary_table(summaries(drives, names)))
+        if out is not None:
+            _write(floors_of, drives, {path: sub for path, sub in files}, out)
     if failed:
         raise SystemExit(1)
 
@@ -144,7 +152,7 @@ def _load_spec(path: Path | None) -> Spec | None:
 def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[list[Floor], bool]:
     """Each scenario file read, completed from its spec and checked against it (a robot can be sized on
     its arena); one that cannot be is reported on one line and left out (a lone file's error ends
-    the command)."""
+    the command). A floor with a start and goal of its own is driven on them, with a note."""
     from mazegen.runtime.documents.driving import driving_robot
     from mazegen.runtime.exporters.floor import load_floor
 
@@ -158,6 +166,9 @@ def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[lis
             skip_file(error, alone=len(files) == 1)
             failed = True
             continue
+        note = floor.task_note("driven")
+        if note is not None:
+            click.echo(note, err=True)
         floors.append(floor)
     return floors, failed
 
@@ -176,8 +187,8 @@ def no_path_line(file: str, floors: Floors) -> str:
     arena = floors.spec.arena
     start, goal = (f"({x:g}, {y:g})" for x, y in (arena.start, arena.goal))
     return (
-        f"{file}: no path for a robot of radius {arena.robot_radius:g} {arena.unit} from start {start} "
-        f"to goal {goal}: not driven"
+        f"{printable(file)}: no path for a robot of radius {arena.robot_radius:g} {arena.unit} "
+        f"from start {start} to goal {goal}: not driven"
     )
 
 
@@ -246,4 +257,4 @@ def _write(floors: list[Floor], drives: list[list[Drive]], subfolders: dict[Path
     for target, document, text in made:
         write_atomic(target, text)
         render_file(document, target.with_suffix(".svg"))
-    click.echo(f"wrote {len(floors)} scenarios and their pictures to {out}", err=True)
+    click.echo(f"wrote {len(floors)} scenarios and their pictures to {printable(str(out))}", err=True)

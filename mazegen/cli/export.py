@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from mazegen.cli.errors import reports_errors
+from mazegen.text import printable
 
 FORMAT_NAMES = ("ros", "gazebo", "irsim", "movingai", "json", "svg", "png")
 """The names of :data:`mazegen.runtime.exporters.FORMATS`, known here without importing the runtime."""
@@ -67,4 +68,4 @@ def export(
     target = out or default_out_dir(source, fmt)
     files = export_plan(source, fmt, target, spec=resolved, options=options)
     write_files(files, force=force)
-    click.echo(f"wrote {len(files)} files to {target}")
+    click.echo(f"wrote {len(files)} files to {printable(str(target))}")

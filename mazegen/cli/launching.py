@@ -13,6 +13,7 @@ import click
 
 from mazegen.cli.bounds import CHECKPOINT_EVERY, WORKERS, BoundedOption, within
 from mazegen.errors import MazeError
+from mazegen.text import printable
 
 if TYPE_CHECKING:
     from mazegen.runtime.engine.problem import Problem
@@ -125,7 +126,7 @@ def reports_interruption(command: F) -> F:
         try:
             return command(*args, **kwargs)
         except RunsInterrupted as stopped:
-            resume = "; ".join(f"mazegen resume {path}" for path in stopped.run_dirs)
+            resume = "; ".join(f"mazegen resume {printable(str(path))}" for path in stopped.run_dirs)
             click.echo(f"interrupted: runs saved checkpoints; continue with: {resume}", err=True)
             raise SystemExit(INTERRUPTED_STATUS) from None
 

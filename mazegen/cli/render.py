@@ -8,6 +8,7 @@ import click
 
 from mazegen.cli.errors import reports_errors
 from mazegen.errors import MazeError
+from mazegen.text import printable
 
 
 @click.command()
@@ -47,4 +48,4 @@ def render(scenario: Path, out: Path, spec: Path | None) -> None:
         )
     check_complete(document, str(scenario))
     render_file(document, out)
-    click.echo(str(out))
+    click.echo(printable(str(out)))

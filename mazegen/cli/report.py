@@ -8,6 +8,7 @@ import click
 
 from mazegen.cli.errors import reports_errors
 from mazegen.errors import MazeError
+from mazegen.text import printable
 
 
 @click.command()
@@ -36,4 +37,4 @@ def report(folder: Path, out: Path | None, force: bool) -> None:
         write_atomic(target, page)
     except OSError as error:
         raise MazeError(f"cannot write: {error.strerror or error}", filename=str(target)) from None
-    click.echo(f"wrote {target}")
+    click.echo(f"wrote {printable(str(target))}")

@@ -9,6 +9,7 @@ import click
 from mazegen.cli.bounds import BoundedOption, within
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.runs import catalog_option
+from mazegen.text import printable
 
 COLUMNS = (
     ("fitness", "fitness"),
@@ -81,7 +82,7 @@ def scenarios(
         rows = scenario_rows(opened, query)
     if paths:
         for row in rows:
-            click.echo(str(row["path"]))
+            click.echo(printable(str(row["path"])))  # one line each, whatever the name holds
         return
     if not rows:
         click.echo("no scenario matches", err=True)

@@ -10,6 +10,7 @@ the others are scored, and the command ends with exit status 1.
 from __future__ import annotations
 
 import json
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -18,6 +19,7 @@ import click
 from mazegen.cli.drive import controller_names, controller_option
 from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.errors import MazeError
+from mazegen.fileio import found_files
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents.scoring import Scored
@@ -53,8 +55,10 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
     files = scenario_files(scenarios)
     scored: list[Scored] = []
     failed = False
-    say = lambda note: click.echo(note, err=True)  # noqa: E731
-    with Scorer.built(resolved) as scorer, noting_compiles(say, "score", DRIVE_SECONDS):
+    with (
+        Scorer.built(resolved) as scorer,
+        noting_compiles(partial(click.echo, err=True), "score", DRIVE_SECONDS),
+    ):
         for path in files:
             try:
                 result = scorer.score(
@@ -80,8 +84,8 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
 
 def scenario_files(paths: tuple[Path, ...]) -> list[Path]:
     """The files to score: each file given, and every scenario file below each folder given, in
-    name order (hidden files, and JSON files of another format such as ``experiment.json``, are
-    left out).
+    name order (hidden files, JSON files of another format such as ``experiment.json``, and entries
+    that are not regular files, are left out).
 
     Raises:
         MazeError: for a folder without a scenario file.
@@ -93,7 +97,7 @@ def scenario_files(paths: tuple[Path, ...]) -> list[Path]:
             continue
         found = [
             file
-            for file in sorted(path.rglob("*.json"))
+            for file in found_files(path, "**/*.json")
             if not any(part.startswith(".") for part in file.relative_to(path).parts)
             and _may_be_scenario(file)
         ]

@@ -10,6 +10,7 @@ from mazegen.cli.bounds import BoundedOption, setting, within
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import compile_first
 from mazegen.errors import MazeError
+from mazegen.text import printable
 
 
 @click.command()
@@ -97,4 +98,4 @@ def suite(
     click.echo(f"archive: {archive.filled.size} of {cells} cells filled")
     if len(documents) < size:
         click.echo(f"only {len(documents)} scenarios: the archive holds no more (try more --iterations)")
-    click.echo(f"wrote {len(documents)} scenarios to {target}")
+    click.echo(f"wrote {len(documents)} scenarios to {printable(str(target))}")

@@ -10,6 +10,7 @@ import click
 from mazegen.cli.bounds import BoundedOption, setting
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.launching import launch_options, launch_settings, reports_interruption
+from mazegen.text import printable
 
 
 @click.command()
@@ -73,16 +74,16 @@ def sweep(
         reporter.close()
     for run_dir, outcome in cells:
         if outcome is None:
-            click.echo(f"{run_dir.name}: finished earlier, skipped")
+            click.echo(f"{printable(run_dir.name)}: finished earlier, skipped")
             continue
         bests = [documents[0]["fitness"] for documents in outcome.best if documents]
         if bests:
-            click.echo(f"{run_dir.name}: {len(outcome.best)} runs, best fitness {max(bests):g}")
+            click.echo(f"{printable(run_dir.name)}: {len(outcome.best)} runs, best fitness {max(bests):g}")
             continue
-        click.echo(f"{run_dir.name}: {len(outcome.best)} runs, no valid scenario")
+        click.echo(f"{printable(run_dir.name)}: {len(outcome.best)} runs, no valid scenario")
         for line in summary_lines(outcome):  # why, run by run
             click.echo(f"  {line}")
-    click.echo(f"wrote {target}")
+    click.echo(f"wrote {printable(str(target))}")
     ran = [outcome for _, outcome in cells if outcome is not None]
     if ran and not any(any(outcome.best) for outcome in ran):
         raise MazeError(NO_SCENARIO)

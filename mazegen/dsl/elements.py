@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import itertools
+import math
 import re
 from typing import Any
 
 from mazegen.dsl import shapes
 from mazegen.dsl.bounds import MAX_ANGLE, MAX_CORNERS, MAX_LENGTH, at_most
 from mazegen.dsl.located import check_range, fail, single_properties
-from mazegen.spec import ElementType, Part
+from mazegen.spec import Arena, ElementType, Part
 
 _COLOUR = re.compile(r"#[0-9a-fA-F]{3}|#[0-9a-fA-F]{6}|[a-zA-Z]{3,20}")
 
@@ -115,3 +117,30 @@ def convert_element(decl: Any) -> ElementType:
     return ElementType(
         name=decl.name, shape=shape.kind, parts=_parts(shape), size=size, size2=size2, **extras
     )
+
+
+def _smallest_across(element: ElementType) -> float:
+    """The longest distance between two points of ``element`` at its smallest size, in any rotation."""
+    sx = element.size[0]
+    sy = sx if element.size2 is None else element.size2[0]
+    points = [
+        (ux * sx + ox, uy * sy + oy)
+        for part in element.parts
+        for (ux, uy), (ox, oy) in zip(part.unit, part.offset)
+    ]
+    return max(math.dist(p, q) for p, q in itertools.combinations(points, 2))
+
+
+def check_fits(decl: Any, element: ElementType, arena: Arena) -> None:
+    """Fail at an element's declaration when even its smallest size cannot lie wholly inside ``arena``
+    (two of its points farther apart than the arena's corners): sizes meant in another unit, such as
+    a library in cm under an arena in m."""
+    across, diagonal = _smallest_across(element), math.hypot(arena.width, arena.height)
+    if across > diagonal:
+        unit = arena.unit
+        fail(
+            decl,
+            f"element '{element.name}' can never fit inside arena '{arena.name}' "
+            f"({arena.width:g} x {arena.height:g} {unit}): at its smallest size it is {across:.4g} {unit} "
+            f"across, the arena's diagonal {diagonal:.4g} {unit} (are its sizes in another unit?)",
+        )

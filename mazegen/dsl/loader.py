@@ -13,7 +13,7 @@ from typing import Any
 from textx.exceptions import TextXSemanticError, TextXSyntaxError
 
 from mazegen.dsl.blocks import convert_arena, convert_evolution, convert_fitness, convert_scenario
-from mazegen.dsl.elements import convert_element
+from mazegen.dsl.elements import check_fits, convert_element
 from mazegen.dsl.located import display_path, fail, suggestion, where
 from mazegen.dsl.metamodel import metamodel
 from mazegen.dsl.robot import convert_robot
@@ -160,8 +160,11 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
     # Every declared element is checked, used or not, so a library's mistakes surface.
     converted = {name: convert_element(decl) for name, decl in element_decls.items()}
     elements = tuple(converted[name] for name in scenario.elements)
-    fitness = convert_fitness(singles.get("FitnessDecl"))
     arena = arenas[scenario.arena]
+    if scenario.placement is None:  # else the grammar's numbers size the elements, not their ranges
+        for element in elements:
+            check_fits(element_decls[element.name], element, arena)
+    fitness = convert_fitness(singles.get("FitnessDecl"))
     robot = convert_robot(singles.get("RobotDecl"), arena, fitness, singles.get("FitnessDecl"))
     return Spec(
         name=scenario.name,

@@ -194,13 +194,14 @@ def test_run_ends_saying_where_the_pictures_are(tmp_path):
 
 
 OVERSIZED = """
-element block { shape square size 400..500 }
+element block { shape rect size 20..40 x 400..500 }
 arena small { size 300 x 300 cm  start (30, 30)  goal (270, 270)  robot radius 10 }
 scenario blocks on small { elements block  grammar nested  max elements 8 }
 fitness { count  outside reject }
 evolution { population 40  generations 1  genome GENOME  runs 2 }
 """
-"""Every element is larger than the arena: no scenario stays inside it."""
+"""Every element is taller than the arena (it could lie across its diagonal, were it turned): no scenario
+stays inside it."""
 
 
 def test_a_run_without_a_valid_scenario_says_why_and_fails(tmp_path, write_spec):

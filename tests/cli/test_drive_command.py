@@ -20,7 +20,9 @@ import pytest
 from click.testing import CliRunner
 
 import mazegen
+import mazegen.runtime.simulation as simulation
 from mazegen.cli.main import main
+from mazegen.errors import MazeError
 from mazegen.runtime.documents.scenario import read_document
 from mazegen.spec import robot_for
 from tests.conftest import EXAMPLES, ROOT
@@ -356,3 +358,106 @@ def test_a_malformed_policy_path_is_one_line_before_anything_is_read(tmp_path, m
         result = CliRunner().invoke(main, [*command, "-c", f"dwa,{name}"], catch_exceptions=False)
         assert result.exit_code == 2 and fake.calls == []
         assert result.stderr.splitlines() == [f"a policy's path reads package.module:name, got '{name}'"]
+
+
+def with_arena(path: Path, elements: list[dict], **changes) -> Path:
+    """A floor whose ``arena`` is the factory spec's with ``changes``."""
+    from mazegen.runtime.documents.scenario import arena_document
+
+    arena = {**arena_document(mazegen.load(EXAMPLES / "factory.maze")), **changes}
+    document = {"format": "mazegen-scenario", "version": 1, "scenario": "factory", "elements": elements}
+    path.write_text(json.dumps({**document, "arena": arena}), encoding="utf-8")
+    return path
+
+
+def test_a_floor_with_its_own_start_and_goal_is_driven_on_them_with_a_note(suite, monkeypatch):
+    fake = fake_drive(monkeypatch)
+    spec = str(EXAMPLES / "factory.maze")
+    moved = with_arena(suite / "scenario-01.json", OPEN, start=[100, 120], goal=[1300, 900])
+    note = (
+        f"{moved}: driven with its own start (100, 120) and goal (1300, 900), not the spec's "
+        "start (60, 60) and goal (1340, 990)"
+    )
+    for args in ([str(moved), "--spec", spec], [str(moved)], [str(suite)]):  # given, or found beside it
+        result = invoke(*args, "-c", "dwa", "--json")
+        assert result.exit_code == 0, result.output
+        assert note in result.stderr.splitlines()
+        record = json.loads(result.stdout.splitlines()[0])
+        assert record["file"] == str(moved) and record["outcome"] == "arrived"
+        # the fake drives from start to goal: 50 cm/s over the straight line between the floor's own
+        assert record["optimal_time"] == pytest.approx(math.dist((100, 120), (1300, 900)) / 50, abs=1e-3)
+    assert [indices for _, indices, _ in fake.calls] == [[0], [0], [0], [1]]  # its own batch, then the rest
+    assert "own start" not in invoke(str(suite / "scenario-03.json"), "-c", "dwa").stderr
+    score = CliRunner().invoke(main, ["score", spec, str(moved)], catch_exceptions=False)
+    assert f"{moved}: scored with its own start (100, 120)" in score.stderr  # the same note
+
+
+def test_a_floor_whose_arena_differs_otherwise_is_refused_saying_what_differs(
+    suite, factory_run, tmp_path, monkeypatch
+):
+    fake = fake_drive(monkeypatch)
+    wider = with_arena(suite / "scenario-01.json", OPEN, width=1500, unit="mm", start=[100, 120])
+    differs = (
+        "the arena of spec 'factory' differs from the scenario's: width 1400 in the spec, 1500 in the "
+        "scenario; unit 'cm' in the spec, 'mm' in the scenario"
+    )
+    given = invoke(str(wider), "-c", "dwa", "--spec", str(EXAMPLES / "factory.maze"))
+    assert given.exit_code == 1 and fake.calls == []
+    assert given.stderr.splitlines() == [f"{wider}: {differs}"]
+    run = tmp_path / "run"
+    shutil.copytree(factory_run, run)
+    best = run / "run-01" / "best-01.json"
+    document = json.loads(best.read_text())
+    best.write_text(json.dumps({**document, "arena": {**document["arena"], "width": 1500, "unit": "mm"}}))
+    found = invoke(str(run), "-c", "dwa", "--json")  # its spec is the run's, beside it
+    assert (
+        found.exit_code == 1
+        and len(found.stdout.splitlines()) == len(list(run.glob("run-*/best-*.json"))) - 1
+    )
+    assert (
+        f"{best}: driving needs the spec the scenario was made under: {differs}" in found.stderr.splitlines()
+    )
+
+
+def test_out_holds_the_folder_so_a_second_drive_into_it_is_refused_and_loses_nothing(
+    factory_run, tmp_path, monkeypatch
+):
+    from mazegen.runtime.runs import locks
+    from mazegen.runtime.runs.results import RunDirectory
+
+    if locks.fcntl is None:
+        pytest.skip("folders are locked with flock")
+    fake = fake_drive(monkeypatch)
+    run = tmp_path / "run"
+    shutil.copytree(factory_run, run)
+    before = {path: path.read_bytes() for path in run.rglob("*") if path.is_file()}
+    held = RunDirectory(run)
+    held.lock()  # another mazegen process (a drive, a resume) writing there now
+    refused = invoke(str(run), "-c", "dwa", "-o", str(run))
+    held.close()
+    assert refused.exit_code == 1 and fake.calls == []
+    assert refused.stderr.splitlines() == [f"{run}: this folder is in use by another mazegen process"]
+    assert {path: path.read_bytes() for path in run.rglob("*") if path.is_file()} == before
+
+    def another_drive_meanwhile(*args, **kwargs):  # while this drive reads, drives and writes
+        with pytest.raises(MazeError, match="in use by another mazegen process"):
+            RunDirectory(run).lock()
+        return fake(*args, **kwargs)
+
+    monkeypatch.setattr(simulation, "drive", another_drive_meanwhile)
+    assert invoke(str(run), "-c", "straight", "-o", str(run)).exit_code == 0
+    assert invoke(str(run), "-c", "dwa", "-o", str(run)).exit_code == 0  # free again once it ended
+    for path in run.glob("run-*/best-*.json"):
+        assert set(read_document(path)["drive"]) == {"straight", "dwa"}
+
+
+def test_file_names_are_printed_escaped(suite, tmp_path, monkeypatch):
+    fake_drive(monkeypatch)
+    weird = "we\x1b]0;TITLE\x07ird"  # printed raw, it would retitle the terminal
+    floor = hand_floor(tmp_path / f"{weird}.json", WALL)
+    driven = invoke(str(floor), "-c", "dwa", "--spec", str(EXAMPLES / "factory.maze"))
+    written = invoke(str(suite), "-c", "dwa", "-o", str(tmp_path / weird))
+    assert driven.exit_code == written.exit_code == 0 and (tmp_path / weird / "scenario-01.json").is_file()
+    for output in (driven.stdout, driven.stderr, written.stderr):  # the table, no path, wrote
+        assert "\x1b" not in output and "\x07" not in output
+        assert "we\\x1b]0;TITLE\\x07ird" in output, output

@@ -1,4 +1,5 @@
-"""What a spec's grammar text derives reaches the terminal escaped: no spec can drive the terminal."""
+"""What a spec's grammar text derives, and the names of files, reach the terminal escaped: no spec and
+no file name can drive the terminal."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import mazegen.runtime
 import mazegen.runtime.runs.warmup
 from mazegen.cli.main import main
 from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
+from tests.conftest import EXAMPLES
 
 # The grammar's text escapes decode to ESC ] 0 ; TITLE BEL: a terminal would take the title.
 TITLE_SPEC = """
@@ -56,3 +58,38 @@ def test_the_compile_note_is_one_line_in_a_pipe(write_spec, tmp_path, monkeypatc
     result = invoke("run", str(write_spec(TITLE_SPEC)), "--executor", "serial", "-o", str(tmp_path / "run"))
     assert result.exit_code == 0, result.output
     assert result.stderr.startswith(FIRST_COMPILE_NOTE + "\n")
+
+
+WEIRD = "we\x1b]0;TITLE\x07i\nrd"
+"""A file name that would retitle the terminal, and split a line in two, if printed raw."""
+SHOWN = "we\\x1b]0;TITLE\\x07i\\nrd"
+
+
+def assert_escaped(output: str) -> None:
+    assert "\x1b" not in output and "\x07" not in output, output
+    assert SHOWN in output, output
+
+
+def test_every_command_prints_the_paths_it_names_escaped(tmp_path):
+    spec, out = str(EXAMPLES / "factory.maze"), tmp_path / WEIRD
+    settings = ["--runs", "1", "--population", "40", "--generations", "1", "--executor", "serial", "-q"]
+    ran = invoke("run", spec, *settings, "-o", str(out))
+    assert ran.exit_code == 0, ran.output
+    assert_escaped(ran.stdout)
+    catalog = str(tmp_path / "catalog.sqlite")
+    assert_escaped(invoke("runs", "--catalog", catalog).stdout)
+    assert_escaped(invoke("scenarios", "--catalog", catalog).stdout)
+    paths = invoke("scenarios", "--catalog", catalog, "--paths").stdout.splitlines()
+    best = sorted(out.glob("run-*/best-*.json"))
+    assert len(paths) == len(best) > 1  # still one path a line
+    assert_escaped("\n".join(paths))
+    assert_escaped(invoke("score", spec, str(out)).stdout)
+    drawn = invoke("render", str(best[0]), "-o", str(tmp_path / f"{WEIRD}.svg"))
+    assert drawn.exit_code == 0 and (tmp_path / f"{WEIRD}.svg").is_file()
+    assert_escaped(drawn.stdout)
+    reported = invoke("report", str(out))
+    assert reported.exit_code == 0
+    assert_escaped(reported.stdout)
+    exported = invoke("export", str(best[0]), "-f", "json", "-o", str(tmp_path / WEIRD / "json"))
+    assert exported.exit_code == 0
+    assert_escaped(exported.stdout)

@@ -724,6 +724,13 @@ BAD_SPECS = [
         "variable crossover cuts within the used codons only, not within genome",
     ),
     (
+        "an element that can never fit inside the arena (sizes in cm, arena in m)",
+        spec(arena="arena floor { size 10 x 8 m start (1, 1) goal (9, 7) robot radius 0.2 }\n"),
+        "1:1",
+        "element 'box' can never fit inside arena 'floor' (10 x 8 m): at its smallest size it is "
+        "28.28 m across, the arena's diagonal 12.81 m (are its sizes in another unit?)",
+    ),
+    (
         "syntax: an unknown operator scope",
         spec(tail="evolution { crossover onepoint within tail 0.9 }\n"),
         "4:39",

@@ -130,10 +130,8 @@ def test_every_bundled_parameter_at_its_default_is_accepted(write_spec, name):
     for parameter in BUNDLED[name].parameters:
         value = math.degrees(parameter.default) if parameter.unit in ("rad", "rad/s") else parameter.default
         written.append(f"{parameter.name} {value:.6f}".rstrip("0").rstrip("."))
-    text = (
-        HEAD.replace(HEAD.splitlines()[1], arena.strip())
-        + f"robot {{ controller {name} {{ {' '.join(written)} }} }}\n"
-    )
+    in_metres = HEAD.replace(HEAD.splitlines()[1], arena.strip()).replace("size 20..40", "size 0.2..0.4")
+    text = in_metres + f"robot {{ controller {name} {{ {' '.join(written)} }} }}\n"
     robot = load_spec(write_spec(text)).robot
     assert robot is not None
     assert [key for key, _ in robot.controller(name).params] == [p.name for p in BUNDLED[name].parameters]

@@ -211,6 +211,10 @@ class Catalog:
                     "UPDATE experiments SET status = 'running', executor = ?, finished = NULL WHERE id = ?",
                     (executor, row["id"]),
                 )
+                db.execute(  # the runs a failure ended go again
+                    "UPDATE runs SET status = 'pending' WHERE experiment_id = ? AND status = 'failed'",
+                    (row["id"],),
+                )
                 return int(row["id"])
             if row is not None:
                 db.execute("DELETE FROM experiments WHERE id = ?", (row["id"],))
@@ -315,12 +319,18 @@ class Catalog:
             )
 
     def finish_experiment(self, experiment: int, *, status: str) -> None:
-        """Record an experiment ``finished`` or ``interrupted``."""
+        """Record an experiment ``finished``, ``interrupted`` or ``failed``; a failed one's unfinished
+        runs are ``failed`` too (its directory may be gone, and nothing will finish them)."""
         with self._write() as db:
             db.execute(
                 "UPDATE experiments SET status = ?, finished = ? WHERE id = ?",
                 (status, _now() if status == "finished" else None, experiment),
             )
+            if status == "failed":
+                db.execute(
+                    "UPDATE runs SET status = 'failed' WHERE experiment_id = ? AND status != 'finished'",
+                    (experiment,),
+                )
 
     def query(self, sql: str, parameters: tuple[Any, ...] = ()) -> list[sqlite3.Row]:
         """Rows of a read-only query (see :mod:`mazegen.runtime.catalog.catalog_query`).

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any, NoReturn
 
 from mazegen.errors import MazeError
+from mazegen.fileio import read_bytes
 
 MAX_FILE_BYTES = 64 * 2**20
 """Largest scenario file read (64 MiB): a floor of :data:`MAX_ELEMENTS` elements is far smaller."""
@@ -305,11 +306,7 @@ class _BadLiteral(ValueError):
 
 
 def _read(path: Path, filename: str) -> str:
-    try:
-        with path.open("rb") as file:
-            data = file.read(MAX_FILE_BYTES + 1)
-    except OSError as error:
-        raise MazeError(f"cannot read scenario: {error.strerror or error}", filename=filename) from None
+    data = read_bytes(path, "scenario", limit=MAX_FILE_BYTES + 1)
     if len(data) > MAX_FILE_BYTES:
         raise MazeError(f"larger than {MAX_FILE_BYTES // 2**20} MiB: not a scenario file", filename=filename)
     try:

@@ -3,13 +3,11 @@ and how controllers drive them.
 
 The spec is built and its fitness module loaded once, then any number of documents are
 scored with it. A document is scored on its own task: the start and goal its ``arena``
-gives, else the spec's (a floor drawn by hand for another start is not judged on the
-spec's).
+gives, else the spec's (see :mod:`~mazegen.runtime.documents.task`).
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 import tempfile
 from collections.abc import Callable, Iterator, Sequence
@@ -18,12 +16,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from mazegen.errors import MazeError
 from mazegen.runtime.documents.driving import Drive, Floors
 from mazegen.runtime.documents.scenario import population_from_document, read_document
+from mazegen.runtime.documents.task import task_note, task_spec
 from mazegen.runtime.engine.problem import Problem
 from mazegen.runtime.navigation.measures import survey_of
-from mazegen.spec import Arena, Point, Spec, task_point_problem
+from mazegen.spec import Point, Spec
 
 
 @dataclass(frozen=True)
@@ -79,39 +77,6 @@ def _finite(value: float) -> float | None:
     return value + 0.0 if math.isfinite(value) else None  # + 0.0 turns -0.0 into 0.0
 
 
-def _point(text: str, point: Point) -> str:
-    return f"{text} ({point[0]:g}, {point[1]:g})"
-
-
-def document_arena(spec: Spec, document: dict[str, Any], filename: str) -> Arena:
-    """The spec's arena with the start and goal of ``document``'s ``arena`` where it gives them.
-
-    Raises:
-        MazeError: for a start or goal that is no ``[x, y]`` point, or where the spec's robot
-            cannot stand.
-    """
-    arena, given = spec.arena, document.get("arena")
-    if not isinstance(given, dict):
-        return arena
-    points = {}
-    for label in ("start", "goal"):
-        value = given.get(label, getattr(arena, label))
-        if not (
-            isinstance(value, (list, tuple))
-            and len(value) == 2
-            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
-        ):
-            raise MazeError(f"arena: '{label}' must be an [x, y] point", filename=filename)
-        point = (float(value[0]), float(value[1]))
-        problem = task_point_problem(label, point, arena.width, arena.height, arena.robot_radius)
-        if problem is not None:
-            raise MazeError(problem, filename=filename)
-        points[label] = point
-    if points["start"] == points["goal"]:
-        raise MazeError("arena: start and goal are the same point", filename=filename)
-    return dataclasses.replace(arena, start=points["start"], goal=points["goal"])
-
-
 class Scorer:
     """Scores scenario files under one built spec."""
 
@@ -137,14 +102,10 @@ class Scorer:
         """
         filename = str(path)
         document = read_document(path)
-        arena = document_arena(self.spec, document, filename)
-        if (arena.start, arena.goal) != (self.spec.arena.start, self.spec.arena.goal):
-            note(
-                f"{filename}: scored with its own {_point('start', arena.start)} and "
-                f"{_point('goal', arena.goal)}, not the spec's {_point('start', self.spec.arena.start)} "
-                f"and {_point('goal', self.spec.arena.goal)}"
-            )
-        task = dataclasses.replace(self.spec, arena=arena)
+        task = task_spec(self.spec, document, filename)
+        own = task_note(filename, task.arena, self.spec.arena, "scored")
+        if own is not None:
+            note(own)
         population = population_from_document(task, self.problem.table, document, filename)
         fitness, terms = self.problem.score(population)
         drives = (
@@ -156,7 +117,7 @@ class Scorer:
             elements=int(population.n_elements[0]),
             terms={key: float(values[0]) for key, values in terms.items()},
             measured=survey_of(population).summary(0),
-            start=arena.start,
-            goal=arena.goal,
+            start=task.arena.start,
+            goal=task.arena.goal,
             drives=tuple(drives),
         )

@@ -5,7 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from mazegen.errors import MazeError
-from mazegen.fileio import write_atomic
+from mazegen.fileio import found_files, write_atomic
 from mazegen.runtime.exporters import FORMATS, check_options
 from mazegen.runtime.exporters.floor import ExportOptions, load_floor
 from mazegen.spec import Spec
@@ -15,17 +15,18 @@ def scenario_files(source: Path) -> list[tuple[Path, Path]]:
     """The scenario files ``source`` names, each with the sub-directory its exports go to.
 
     A file is itself; a run directory gives ``run-NN/best-KK.json`` (exports in
-    ``run-NN/``), a suite directory its ``scenario-NN.json``.
+    ``run-NN/``), a suite directory its ``scenario-NN.json`` (regular files only: see
+    :func:`~mazegen.fileio.found_files`).
 
     Raises:
         MazeError: For a directory that is neither a run nor a suite directory.
     """
     if not source.is_dir():
         return [(source, Path())]
-    best = sorted(source.glob("run-*/best-*.json"))
+    best = found_files(source, "run-*/best-*.json")
     if best:
         return [(path, Path(path.parent.name)) for path in best]
-    suite = sorted(source.glob("scenario-*.json"))
+    suite = found_files(source, "scenario-*.json")
     if suite:
         return [(path, Path()) for path in suite]
     raise MazeError(

@@ -27,7 +27,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from mazegen.errors import MazeError
-from mazegen.fileio import json_value, read_text
+from mazegen.fileio import found_files, json_value, read_text
 from mazegen.runtime.documents.scenario import read_document
 from mazegen.runtime.reports.report_html import (
     Saved,
@@ -109,7 +109,7 @@ def read_run(path: Path) -> RunDirectory:
             f"damaged stats.csv (want the columns {', '.join(sorted(needed))})", filename=str(path)
         )
     scenarios = []
-    for file in sorted(path.glob("run-*/best-*.json")):
+    for file in found_files(path, "run-*/best-*.json"):
         number, rank = file.parent.name.removeprefix("run-"), file.stem.removeprefix("best-")
         if number.isdigit() and rank.isdigit():
             scenarios.append(

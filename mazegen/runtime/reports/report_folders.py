@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.fileio import json_value, read_text
+from mazegen.fileio import found_files, json_value, read_text
 from mazegen.runtime.documents.scenario import read_document
 from mazegen.runtime.reports.report import (
     RunDirectory,
@@ -69,7 +69,7 @@ def suite_html(path: Path, *, links_from: Path) -> str:
         raise MazeError("damaged archive.json", filename=str(path / "archive.json")) from None
     scenarios = [
         Saved(f"scenario {file.stem.removeprefix('scenario-')}", file, read_document(file))
-        for file in sorted(path.glob("scenario-*.json"))
+        for file in found_files(path, "scenario-*.json")
     ]
     heatmap = path / "archive.png"
     sections = [

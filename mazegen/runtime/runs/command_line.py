@@ -37,11 +37,13 @@ NO_SCENARIO = "no run produced a valid scenario (see why above)"
 
 def closing_lines(outcome: ExperimentResult, run_dir: Path) -> list[str]:
     """Where the results went: the run directory, its pictures, and the command of its report page."""
-    lines = [f"wrote {run_dir}"]
+    shown = printable(str(run_dir))
+    lines = [f"wrote {shown}"]
     if any(outcome.best):
+        pictures = printable(str(run_dir / "run-NN" / "best-KK.svg"))
         lines += [
-            f"pictures: {run_dir / 'run-NN' / 'best-KK.svg'} (as PNG: mazegen export {run_dir} --format png)",
-            f"one page of settings, pictures and plots: mazegen report {run_dir}",
+            f"pictures: {pictures} (as PNG: mazegen export {shown} --format png)",
+            f"one page of settings, pictures and plots: mazegen report {shown}",
         ]
     return lines
 
@@ -76,7 +78,7 @@ def main(build_dir: Path, argv: list[str] | None = None) -> int:
         print(error.render(command_line=True), file=sys.stderr)
         return 1
     except RunsInterrupted:
-        print(f"interrupted; continue with: mazegen resume {out}", file=sys.stderr)
+        print(f"interrupted; continue with: mazegen resume {printable(str(out))}", file=sys.stderr)
         return 130
     finally:
         reporter.close()

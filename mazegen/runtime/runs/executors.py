@@ -19,6 +19,7 @@ import multiprocessing.connection
 import os
 import queue
 import signal
+import sys
 import threading
 from abc import ABC, abstractmethod
 from collections import deque
@@ -249,8 +250,34 @@ def _run_in_pool(task: RunTask) -> RunOutcome:
     return run_task(task, _channel)
 
 
+TRACKER_QUIET = "ignore:resource_tracker:UserWarning"
+"""The ``-W`` option that keeps multiprocessing's resource tracker from warning about the semaphores
+it removes."""
+
+
+def _start_resource_tracker() -> None:
+    """Start multiprocessing's resource tracker (unless it runs) without its warning about leaked semaphores.
+
+    The queues and events of local workers are named semaphores; the tracker removes those of a
+    launcher killed outright, which is its job, and would then print ``There appear to be 15 leaked
+    semaphore objects to clean up at shutdown``: the one line a ``kill -9`` printed, about nothing
+    the user can or needs to act on. The tracker takes its warning filters from the ``-W`` options
+    of the process that starts it, so it is started here with that one added.
+    """
+    from multiprocessing import resource_tracker
+
+    options = list(sys.warnoptions)
+    sys.warnoptions.append(TRACKER_QUIET)
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        sys.warnoptions[:] = options
+
+
 def process_context() -> multiprocessing.context.ForkServerContext | multiprocessing.context.SpawnContext:
     """How this package starts processes: forkserver where there is one, else spawn."""
+    if os.name == "posix":  # elsewhere semaphores are not named, and there is no tracker
+        _start_resource_tracker()
     if "forkserver" in multiprocessing.get_all_start_methods():
         context = multiprocessing.get_context("forkserver")
         # The server imports the slow libraries once. Not this package: before Python 3.12 the server

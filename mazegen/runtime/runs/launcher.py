@@ -27,6 +27,7 @@ from mazegen.runtime.runs.executors import EXECUTORS, Executor, LocalExecutor, S
 from mazegen.runtime.runs.progress import QuietReporter, Reporter, note_first_compile
 from mazegen.runtime.runs.results import RunDirectory
 from mazegen.runtime.runs.worker import FinishedRun, RunOutcome, RunTask
+from mazegen.text import printable
 
 if TYPE_CHECKING:
     from mazegen.runtime.runs.experiment import Experiment
@@ -274,7 +275,7 @@ def launch(
     launched: list[_Launched] = []
     try:
         for index, job in enumerate(jobs):
-            label = f"{job.run_dir.name} " if len(jobs) > 1 and job.run_dir is not None else ""
+            label = f"{printable(job.run_dir.name)} " if len(jobs) > 1 and job.run_dir is not None else ""
             launched.append(
                 _Launched(
                     index,

@@ -35,14 +35,10 @@ from typing import Any
 
 import numpy as np
 
-try:
-    import fcntl
-except ImportError:  # Windows: run directories are not locked
-    fcntl = None  # type: ignore[assignment]
-
 from mazegen.errors import MazeError, option
 from mazegen.fileio import FOLDER_MODE, disk_errors, make_folder, write_atomic
 from mazegen.runtime.engine.evolution import GenerationStats, RunResult
+from mazegen.runtime.runs.locks import lock_folder
 from mazegen.runtime.reports.render import scenario_svg
 from mazegen.runtime.documents.scenario import dumps
 
@@ -156,36 +152,6 @@ def _swap(stage: Path, target: Path) -> None:
     shutil.rmtree(old, ignore_errors=True)
 
 
-def _flock(path: Path, operation: int) -> int | None:
-    """A descriptor of ``path`` holding the ``flock`` ``operation``, or ``None`` when another
-    open descriptor holds a lock that a non-blocking one would wait for."""
-    handle = os.open(path, os.O_RDONLY)
-    try:
-        fcntl.flock(handle, operation)
-    except BlockingIOError:
-        os.close(handle)
-        return None
-    except BaseException:
-        os.close(handle)
-        raise
-    return handle
-
-
-@contextlib.contextmanager
-def writing_checkpoints(folder: Path) -> Iterator[None]:
-    """Hold a shared lock on a run directory's ``checkpoints/`` ``folder`` while a worker may write
-    there (see :class:`RunDirectory`); it waits only for a launch's look whether the folder is free."""
-    if fcntl is None:
-        yield
-        return
-    handle = _flock(folder, fcntl.LOCK_SH)
-    assert handle is not None, "a blocking lock waits until it is taken"
-    try:
-        yield
-    finally:
-        os.close(handle)
-
-
 def run_files(result: RunResult, documents: tuple[dict[str, Any], ...]) -> dict[str, bytes]:
     """The files of a run's folder: its best scenarios (JSON and SVG) and its final population.
 
@@ -205,12 +171,9 @@ def run_files(result: RunResult, documents: tuple[dict[str, Any], ...]) -> dict[
 class RunDirectory:
     """The files of one experiment's run directory (see the module docstring for its life).
 
-    A directory being written is locked (an exclusive ``flock`` on the folder itself, where
-    the system has it), so a second launch cannot resume or replace it meanwhile; the lock
-    goes with the process, also when it is killed. Workers, which write the checkpoints, hold
-    a shared lock on ``checkpoints/`` while a run goes (see :func:`writing_checkpoints`): a
-    directory is free only when both are, so a launch refuses it while the workers of a
-    launcher killed outright are still on their way out.
+    A directory being written is locked (see :mod:`~mazegen.runtime.runs.locks`), so a second
+    launch cannot resume or replace it meanwhile, nor a launch while the workers of a launcher
+    killed outright are still on their way out.
     """
 
     def __init__(self, path: Path) -> None:
@@ -298,22 +261,7 @@ class RunDirectory:
         Raises:
             MazeError: when another process holds either.
         """
-        if fcntl is None:
-            return
-        handle = _flock(self.path, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        checkpoints = self.path / "checkpoints"
-        if handle is not None and checkpoints.is_dir():
-            workers = _flock(checkpoints, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            if workers is None:
-                os.close(handle)
-                handle = None
-            else:
-                os.close(workers)
-        if handle is None:
-            raise MazeError(
-                "this run directory is in use by another mazegen process", filename=str(self.path)
-            )
-        self._lock = handle
+        self._lock = lock_folder(self.path, "run directory")
 
     def close(self) -> None:
         """Release the lock."""

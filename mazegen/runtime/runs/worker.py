@@ -33,7 +33,8 @@ from mazegen.runtime.runs.checkpoint import (
 from mazegen.runtime.documents.best import best_documents
 from mazegen.runtime.engine.evolution import GenerationStats, RunResult, RunState, evolve
 from mazegen.runtime.engine.problem import Problem, compiled_bnf, load_fitness
-from mazegen.runtime.runs.results import run_files, writing_checkpoints
+from mazegen.runtime.runs.locks import writing_checkpoints
+from mazegen.runtime.runs.results import run_files
 from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import Spec
 

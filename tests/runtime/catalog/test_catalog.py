@@ -6,6 +6,7 @@ import json
 import multiprocessing
 import sqlite3
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 from click.testing import CliRunner
@@ -180,4 +181,28 @@ def test_concurrent_writers_lose_nothing(tmp_path):
     ]
     assert counts == [36, 72, 360]
     assert len(scenario_rows(catalog, ScenarioQuery((Condition("difficulty", "=", 2.0),)))) == 12 * 2 * 3
+    catalog.close()
+
+
+def test_the_unfinished_runs_of_a_failed_experiment_are_failed_until_it_resumes(tmp_path):
+    catalog = Catalog.open(tmp_path / "catalog.sqlite", create=True)
+    settings = {"seed": 1, "runs": 3, "population": 10, "generations": 4}
+    record = {"scenario": "s", "source": "-", "evolution": settings}
+    experiment = catalog.start_experiment(
+        run_dir=tmp_path / "x", record=record, sweep=None, executor="serial", resumed=False
+    )
+    counts = {"evaluations": 10, "mean": 1.0, "median": 1.0, "invalid": 0, "unique": 10, "cache_hits": 0}
+    stats = (SimpleNamespace(generation=0, best=1.0, seconds=0.1, **counts),)
+    catalog.record_run(experiment, 1, SimpleNamespace(stats=stats), (), tmp_path / "x" / "run-01")  # type: ignore[arg-type]
+    catalog.run_stopped(experiment, 2, 3)
+    catalog.finish_experiment(experiment, status="failed")
+
+    def run_statuses() -> list[tuple[str, str]]:
+        return [(row["experiment_status"], row["status"]) for row in run_rows(catalog)]
+
+    assert run_statuses() == [("failed", "finished"), ("failed", "failed"), ("failed", "failed")]
+    catalog.start_experiment(
+        run_dir=tmp_path / "x", record=record, sweep=None, executor="serial", resumed=True
+    )
+    assert run_statuses() == [("running", "finished"), ("running", "pending"), ("running", "pending")]
     catalog.close()

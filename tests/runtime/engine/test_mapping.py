@@ -267,7 +267,7 @@ def _check_kernel(
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
-@pytest.mark.parametrize(("consume", "wraps"), itertools.product(["eager", "lazy"], [0, 1, 2]))
+@pytest.mark.parametrize(("consume", "wraps"), list(itertools.product(["eager", "lazy"], [0, 1, 2])))
 def test_kernel_equals_reference(name: str, consume: str, wraps: int) -> None:
     grammar, elements = CASES[name]
     rng = np.random.default_rng([len(name), wraps, consume == "lazy"])

@@ -25,9 +25,9 @@ from tests.runtime.rundirs import SMALL, SPEC, Killed, file_digests, invoke, sma
 FULL = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
 
 
-def statuses(catalog: Path) -> list[str]:
+def statuses(catalog: Path, table: str = "experiments") -> list[str]:
     with sqlite3.connect(catalog) as db:
-        return [row[0] for row in db.execute("SELECT status FROM experiments")]
+        return [row[0] for row in db.execute(f"SELECT status FROM {table}")]
 
 
 def replace_failing_at(
@@ -78,11 +78,14 @@ def test_a_run_that_fails_before_any_progress_leaves_nothing_and_is_catalogued_f
     with pytest.raises(MazeError, match="edited"):
         mazegen.run(build, **SMALL, out_dir=out)
     assert not out.exists() and statuses(catalog) == ["failed"]
+    assert statuses(catalog, "runs") == ["failed", "failed"]  # none left pending
+    listed = invoke("runs", "--catalog", str(catalog)).stdout.splitlines()
+    assert [line.split()[2] for line in listed[1:]] == ["failed", "failed"]
     assert [name for name in os.listdir(out.parent) if not name.startswith("catalog.sqlite")] == []
 
     fitness.write_text(text)
     mazegen.run(build, **SMALL, out_dir=out)  # the next try needs no --force
-    assert statuses(catalog) == ["finished"]
+    assert statuses(catalog) == ["finished"] and statuses(catalog, "runs") == ["finished", "finished"]
 
 
 @pytest.mark.parametrize("kill", ["catalog", "checkpoints"])

@@ -5,10 +5,11 @@ from __future__ import annotations
 import pytest
 
 from mazegen.errors import MazeError
-from mazegen.runtime.runs import results
-from mazegen.runtime.runs.results import RunDirectory, writing_checkpoints
+from mazegen.runtime.runs import locks
+from mazegen.runtime.runs.locks import writing_checkpoints
+from mazegen.runtime.runs.results import RunDirectory
 
-pytestmark = pytest.mark.skipif(results.fcntl is None, reason="run directories are locked with flock")
+pytestmark = pytest.mark.skipif(locks.fcntl is None, reason="run directories are locked with flock")
 
 IN_USE = "this run directory is in use by another mazegen process"
 
