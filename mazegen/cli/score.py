@@ -55,15 +55,11 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
     files = scenario_files(scenarios)
     scored: list[Scored] = []
     failed = False
-    with (
-        Scorer.built(resolved) as scorer,
-        noting_compiles(partial(click.echo, err=True), "score", DRIVE_SECONDS),
-    ):
+    say = partial(click.echo, err=True)
+    with Scorer.built(resolved) as scorer, noting_compiles(say, "score", DRIVE_SECONDS):
         for path in files:
             try:
-                result = scorer.score(
-                    path, note=lambda message: click.echo(message, err=True), controllers=names
-                )
+                result = scorer.score(path, note=say, controllers=names)
             except MazeError as error:
                 skip_file(error, alone=len(files) == 1)
                 failed = True
