@@ -65,8 +65,8 @@ def in_blocks(kernel: Callable[..., Any], count: int, *args: Any, per_thread: in
     """Call ``kernel(first, last, *args)`` over blocks ``[first, last)`` that cover ``range(count)``.
 
     With one thread in use the kernel runs once, here, over the whole range. Otherwise the range
-    is cut into ``per_thread`` blocks a thread (more blocks even out items of unequal cost): this
-    thread works the first while the pool's threads take the others in turn.
+    is cut into ``per_thread`` blocks a thread (more blocks even out items of unequal cost), which
+    this thread and the pool's take one after another until none is left.
     """
     workers = thread_count()
     if workers == 1 or count < 2:
@@ -74,13 +74,23 @@ def in_blocks(kernel: Callable[..., Any], count: int, *args: Any, per_thread: in
         return
     blocks = min(count, per_thread * workers)
     cuts = [k * count // blocks for k in range(blocks + 1)]
-    pool = _pool(workers - 1)
-    pending = [pool.submit(kernel, first, last, *args) for first, last in itertools.pairwise(cuts[1:])]
+    todo = iter(itertools.pairwise(cuts))
+    taking = threading.Lock()
+
+    def work() -> None:
+        while True:
+            with taking:
+                block = next(todo, None)
+            if block is None:
+                return
+            kernel(*block, *args)
+
+    helpers = [_pool(workers - 1).submit(work) for _ in range(workers - 1)]
     try:
-        kernel(0, cuts[1], *args)
+        work()
     finally:
-        for block in pending:
-            block.result()
+        for helper in helpers:
+            helper.result()
 
 
 def _pool(workers: int) -> ThreadPoolExecutor:

@@ -34,11 +34,18 @@ def test_one_thread_runs_in_the_calling_thread_in_one_block():
 
 
 def test_several_threads_share_the_blocks():
+    both = threading.Barrier(2, timeout=60)  # passes only once two threads hold a block each
     seen = []
+
+    def block(first, last):
+        thread = threading.current_thread()
+        if thread not in seen:
+            seen.append(thread)
+            both.wait()
+
     with threads(2):
-        in_blocks(lambda first, last: seen.append(threading.current_thread()), 8, per_thread=4)
-    assert len(seen) == 8
-    assert threading.current_thread() in seen and len(set(seen)) > 1  # the caller works one block too
+        in_blocks(block, 8, per_thread=4)
+    assert len(seen) == 2 and threading.current_thread() in seen  # the caller works blocks too
 
 
 def test_a_block_that_raises_raises_in_the_caller():
