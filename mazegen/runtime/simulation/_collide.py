@@ -27,7 +27,7 @@ NO_HIT = np.inf
 """What :func:`sweep` returns when the segment touches nothing."""
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _slab(q0, qd, lo, hi, enter, leave):  # pragma: no cover - compiled
     """Narrow ``[enter, leave]`` to the ``t`` where ``lo ≤ q0 + t·qd ≤ hi``."""
     if qd == 0.0:
@@ -41,7 +41,7 @@ def _slab(q0, qd, lo, hi, enter, leave):  # pragma: no cover - compiled
     return max(enter, a), min(leave, b)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def disc_entry(px, py, dx, dy, cx, cy, r):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``p + t·d`` is within ``r`` of ``c``, else ``NO_HIT``."""
     fx = px - cx
@@ -60,7 +60,7 @@ def disc_entry(px, py, dx, dy, cx, cy, r):  # pragma: no cover - compiled
     return t if t <= 1.0 else NO_HIT
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _edge_slab_entry(px, py, dx, dy, ax, ay, bx, by, r):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``p + t·d`` is within ``r`` of segment ``ab`` through its side
     (the slab over the edge; the discs at its ends are tested separately), else ``NO_HIT``."""
@@ -78,7 +78,7 @@ def _edge_slab_entry(px, py, dx, dy, ax, ay, bx, by, r):  # pragma: no cover - c
     return enter if enter <= leave else NO_HIT
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _edge(vertices, n, k, px, py):  # pragma: no cover - compiled
     """Edge ``k`` of a counter-clockwise part, ``(ax, ay, bx, by)``, and whether ``p`` is on its
     inner side (or on it): ``p`` is inside the part when it is for every edge."""
@@ -102,7 +102,7 @@ def part_entry(px, py, dx, dy, vertices, n, r):  # pragma: no cover - compiled
     return 0.0 if inside else best
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _wall_entry(q, qd, r, far):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``q + t·qd`` is within ``r`` of 0 or of ``far``."""
     if q <= r or q >= far - r:
@@ -116,7 +116,7 @@ def _wall_entry(q, qd, r, far):  # pragma: no cover - compiled
     return t if t <= 1.0 else NO_HIT
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _segment_distance2(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
     """Squared distance from ``p`` to segment ``ab``."""
     ex = bx - ax

@@ -18,20 +18,18 @@ import math
 
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
-
 LIMITS = ("max_speed", "min_speed", "max_turn", "accel", "turn_accel", "step", "radius", "goal_tolerance")
 """The order of the ``limits`` array every controller kernel reads."""
 MAX_SPEED, MIN_SPEED, MAX_TURN, ACCEL, TURN_ACCEL, STEP, RADIUS, GOAL_TOLERANCE = range(8)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def wrap(angle):  # pragma: no cover - compiled
     """``angle`` in ``[-pi, pi)``."""
     return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def straight_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
 ):  # pragma: no cover
@@ -42,7 +40,7 @@ def straight_command(
     out[1] = params[0] * error
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _closest(path, x, y):  # pragma: no cover - compiled
     """Segment index and fraction of the point of polyline ``path`` nearest ``(x, y)``."""
     best = math.inf
@@ -60,7 +58,7 @@ def _closest(path, x, y):  # pragma: no cover - compiled
     return segment, fraction
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def carrot(path, x, y, reach):  # pragma: no cover - compiled
     """The lookahead point: walking ``path`` on from its point nearest ``(x, y)``, the first point
     ``reach`` away from ``(x, y)``; the path's end when all of it is nearer."""
@@ -86,7 +84,7 @@ def carrot(path, x, y, reach):  # pragma: no cover - compiled
     return path[n - 1, 0], path[n - 1, 1]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def purepursuit_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
 ):  # pragma: no cover

@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from mazegen.runtime.compiling import inner_kernel
@@ -82,7 +81,7 @@ def dwa_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
     still = math.nan  # the cost of standing still, once scored
     out[0], out[1] = 0.0, 0.0
     # The sample nearest the current velocity first, then all (it again, harmlessly).
-    i0 = _nearest(v_now, v_lo, v_hi, nv, np.int64(0))
+    i0 = _nearest(v_now, v_lo, v_hi, nv, 0)
     j0 = _nearest(w_now, w_lo, w_hi, nw, 1 if zero else 0)
     for n in range(-1, nw):
         # Row n: every speed at turn rate n; row -1: the sample nearest the current velocity.
@@ -95,7 +94,7 @@ def dwa_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
         else:
             ax, ay = horizon * cos_now, horizon * sin_now
         for i in range(nv) if n >= 0 else range(i0, i0 + 1):
-            v = _sample(v_lo, v_hi, nv, i, np.bool_(False))
+            v = _sample(v_lo, v_hi, nv, i, False)
             ex, ey = x + v * ax, y + v * ay
             if v == 0.0 and not math.isnan(still):
                 cost = still  # turning on the spot: every turn rate costs the same (its tie aside)
@@ -131,7 +130,7 @@ def dwa_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
                 out[0], out[1] = v, w
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _sample(lo, hi, count, k, zero):  # pragma: no cover - compiled
     """Sample ``k`` of ``count`` over ``[lo, hi]``, ends included; with ``zero``, sample 0 is 0 and
     the other ``count - 1`` spread over the window."""
@@ -145,7 +144,7 @@ def _sample(lo, hi, count, k, zero):  # pragma: no cover - compiled
     return lo + (hi - lo) * k / (count - 1)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _nearest(value, lo, hi, count, offset):  # pragma: no cover - compiled
     """Index of the evenly spread sample nearest ``value`` (after ``offset`` leading samples)."""
     spread = count - offset
@@ -155,7 +154,7 @@ def _nearest(value, lo, hi, count, offset):  # pragma: no cover - compiled
     return offset + min(max(k, 0), spread - 1)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _score(
     params, x, y, theta, ex, ey, v, w, horizon, limit, radius, nav, clear, frame, path, first, last, budget
 ):  # pragma: no cover - compiled
@@ -202,7 +201,7 @@ def _score(
     return ends + weight * obstacle
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _clear_at(clear, frame, x, y):  # pragma: no cover - compiled
     """The clearance field at ``(x, y)`` (its cell's value), 0 outside the grid; ``frame`` =
     ``(x0, y0, 1 / cell, cell)``."""
@@ -216,7 +215,7 @@ def _clear_at(clear, frame, x, y):  # pragma: no cover - compiled
     return clear[r, c]
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _nav_at(nav, frame, x, y):  # pragma: no cover - compiled
     """The navigation function at ``(x, y)`` (its cell's value), ``inf`` outside the grid."""
     u = (x - frame[0]) * frame[2]
@@ -236,7 +235,7 @@ def _near_segments(path, x, y, reach):  # pragma: no cover - compiled
     n = path.shape[0] - 1
     if n < 1:
         return 0, -1
-    nearest = math.sqrt(_to_path(path, x, y, np.int64(0), n - 1))
+    nearest = math.sqrt(_to_path(path, x, y, 0, n - 1))
     within = (nearest + 2.0 * reach) ** 2
     first, last = n, -1
     for s in range(n):
@@ -245,7 +244,7 @@ def _near_segments(path, x, y, reach):  # pragma: no cover - compiled
     return first, last
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _to_path(path, x, y, first, last):  # pragma: no cover - compiled
     """Squared distance from ``(x, y)`` to path segments ``first..last`` (0 when there are none)."""
     if last < first:

@@ -25,7 +25,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.bits import is_set
 from mazegen.runtime.geometry.cspace import cspace, grid_args, grid_of, raster_arrays
 from mazegen.runtime.navigation.paths import kernel_args
@@ -132,7 +131,7 @@ def clearance(occupied, cell, extent, out, scratch):  # pragma: no cover - compi
             out[r, c] = min(math.sqrt(done[c]) * cell, edge)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _lower_envelope(f, n, hull, bounds, out):  # pragma: no cover - compiled
     """``out[:n]``: the 1D squared distance transform ``min_q (p - q)² + f[q]`` of ``f[:n]``
     (Felzenszwalb and Huttenlocher's lower envelope of parabolas)."""
@@ -187,7 +186,7 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
     per_cell = 1.0 / cell
     ring = heads.shape[0]
     bucket = int(seed * per_cell)
-    used = _file(keys, cells, links, heads, np.int64(0), seed, gr * cols + gc, bucket % ring)
+    used = _file(keys, cells, links, heads, 0, seed, gr * cols + gc, bucket % ring)
     pending = 1
     diagonal = math.sqrt(2.0) * cell
     while pending:
@@ -223,7 +222,7 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
                     pending += 1
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _file(keys, cells, links, heads, used, key, value, slot):  # pragma: no cover - compiled
     """Put ``(key, value)`` first in bucket ``slot``, in entry ``used``; returns the next free entry."""
     keys[used], cells[used], links[used] = key, value, heads[slot]

@@ -14,8 +14,6 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
-
 
 def beam_angles(beams: int, fov: float) -> np.ndarray:
     """``float64[beams]``: beam angles relative to the heading, spread evenly over ``fov`` centred
@@ -29,7 +27,7 @@ def beam_angles(beams: int, fov: float) -> np.ndarray:
     return np.linspace(-fov / 2, fov / 2, beams)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _wall_range(p, d, far, reach):  # pragma: no cover - compiled
     """Distance along ``p + t·d`` to the wall at 0 or ``far``, or ``reach`` when beyond it."""
     if d > 0.0:
@@ -39,7 +37,7 @@ def _wall_range(p, d, far, reach):  # pragma: no cover - compiled
     return reach
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _box_reach(px, py, dx, dy, box, reach):  # pragma: no cover - compiled
     """Whether the beam ``p + t·d``, ``0 ≤ t ≤ reach``, meets the box (slab test)."""
     enter = 0.0

@@ -29,7 +29,6 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._collide import NO_HIT, disc_entry, distance, sweep
 from mazegen.runtime.simulation._controllers import (
     ACCEL,
@@ -110,7 +109,7 @@ def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no co
         outcome[m] = ARRIVED
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _window(command, current, change, low, high):  # pragma: no cover - compiled
     return min(max(min(max(command, current - change), current + change), low), high)
 

@@ -71,7 +71,7 @@ def vfh_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles
     out[1] = params[HEADING_GAIN] * steer
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _free(density, seen, s, threshold):  # pragma: no cover - compiled
     return seen[s] and density[s] <= threshold
 
@@ -110,7 +110,7 @@ def _opening(density, seen, threshold, width, wide, bearing):  # pragma: no cove
     return best
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _sector(angle, width, n):  # pragma: no cover - compiled
     """The sector holding ``angle`` (radians from the heading); sector 0 starts at -pi."""
     if not -math.pi <= angle < math.pi:  # beam angles are already: no remainder to take
