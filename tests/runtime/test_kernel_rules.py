@@ -1,6 +1,6 @@
 """The rules that keep a first run's compiling short (docs/architecture.md, Compiling), checked on the
-sources: no parallel kernels, inlining only in the simulator's per-step helpers, no literal constants
-given to kernels that are not inlined, and a Python wrapper for exactly the kernels Python calls."""
+sources: no parallel kernels, no literal constants given to kernels that are not inlined, and a
+Python wrapper for exactly the kernels Python calls."""
 
 from __future__ import annotations
 
@@ -29,18 +29,15 @@ def _kernels() -> list[tuple[Path, ast.FunctionDef, str]]:
     return found
 
 
-SIMULATION = RUNTIME / "simulation"
-
-
 def _inlined(decorator: str) -> bool:
     return "inline" in decorator
 
 
-def test_no_kernel_is_parallel_and_only_the_simulators_step_helpers_are_inlined():
+def test_no_kernel_is_parallel():
     offending = [
         f"{path.name}:{node.lineno} {node.name}"
         for path, node, decorator in _kernels()
-        if "parallel" in decorator or (_inlined(decorator) and path.parent != SIMULATION)
+        if "parallel" in decorator
     ]
     assert offending == []
 

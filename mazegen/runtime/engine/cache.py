@@ -13,7 +13,6 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.engine.used_operators import Usage
 from mazegen.runtime.threads import in_blocks
 
@@ -28,7 +27,7 @@ _MIX_1 = np.uint64(0xBF58476D1CE4E5B9)
 _MIX_2 = np.uint64(0x94D049BB133111EB)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _mix(h):  # pragma: no cover - compiled
     """The splitmix64 finaliser: a bijection that spreads every input bit over the output."""
     h = (h ^ (h >> np.uint64(30))) * _MIX_1
@@ -36,7 +35,7 @@ def _mix(h):  # pragma: no cover - compiled
     return h ^ (h >> np.uint64(31))
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _lanes(row, a, b, c, d):  # pragma: no cover - compiled
     """Feed ``row`` to four FNV-1a chains, value ``j`` to chain ``j % 4`` (the tail to the first).
 
@@ -142,7 +141,7 @@ class EvaluationCache:
         self._usage = usage
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _slot(table, key):  # pragma: no cover - compiled
     """The slot holding ``key``, or the empty slot where it would go."""
     mask = np.uint64(table.shape[0] - 1)

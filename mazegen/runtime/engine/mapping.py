@@ -38,7 +38,6 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.engine.bnf import Grammar, Symbol
 from mazegen.runtime.engine.compiled_grammar import (
     CHOICE_CODONS,
@@ -284,7 +283,7 @@ def map_population(
         _codon_limit(codons.shape[1], wraps, consume),
         max_depth,
     )
-    in_blocks(_map_all, n, codons, grammar, options, arrays, per_thread=8)
+    in_blocks(_map_all, n, codons, grammar, options, arrays)
     return result
 
 
@@ -298,7 +297,7 @@ def _map_all(first, last, codons, grammar, options, out):  # pragma: no cover - 
         valid[i], used[i], n_elements[i] = _map_one(codons, i, grammar, options, stack, depths, out)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cover - compiled
     """Map genome ``i`` as :func:`map_genome` does, tokenising terminals as they are popped.
 
@@ -390,7 +389,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
     return ok, used, count
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _finish(mode, node, value, trie_element, out, i, count, n_num, used):  # pragma: no cover - compiled
     """Emit the token that just ended; a ``count`` beyond the slots means overflow."""
     numbers = out[4]
@@ -402,7 +401,7 @@ def _finish(mode, node, value, trie_element, out, i, count, n_num, used):  # pra
     return count, n_num
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _emit(element, out, i, count, used):  # pragma: no cover - compiled
     """Record element number ``count`` of genome ``i``, completed after ``used`` codons
     (slots past the end only count)."""

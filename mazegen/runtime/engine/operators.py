@@ -303,7 +303,7 @@ def cross_pairs(
         )
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _copy_crossed(source, first, second, cut, out, pair):  # pragma: no cover - compiled
     width = source.shape[1]
     copy_span(source, first, np.int64(0), out, 2 * pair, np.int64(0), cut)
@@ -312,9 +312,12 @@ def _copy_crossed(source, first, second, cut, out, pair):  # pragma: no cover - 
     copy_span(source, first, cut, out, 2 * pair + 1, cut, width - cut)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def copy_span(source, row, start, out, out_row, out_start, count):  # pragma: no cover - compiled
     """``out[out_row, out_start:][:count] = source[row, start:][:count]``, as a loop: numba compiles
     each slice assignment with a shape check and its message, seconds of a first run apiece."""
+    # Row slices, then indices from range(): the compiler knows they are not negative, so the copy
+    # has no wrap-around test per element and is vectorised.
+    taken, put = source[row, start : start + count], out[out_row, out_start : out_start + count]
     for k in range(count):
-        out[out_row, out_start + k] = source[row, start + k]
+        put[k] = taken[k]

@@ -29,7 +29,6 @@ import numpy as np
 from numba import njit
 from numba.np.random.random_methods import buffered_bounded_lemire_uint32 as lemire_uint32
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.engine.mapping import PopulationMap
 from mazegen.runtime.engine.operators import MutationDraws, codon_type, copy_span, draw_mutation, gap_scale
 from mazegen.runtime.engine.population import PLACEMENT_GENES
@@ -162,7 +161,7 @@ def draw_cuts(rng, used, rate, variable):  # pragma: no cover - compiled
     return crossing, first, second
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _one_to(rng, high):  # pragma: no cover - compiled
     """An integer uniform in ``1..max(high, 1)``, drawn as NumPy's ``integers(1, high + 1)`` draws it:
     numba's own port of NumPy's Lemire draw, called directly because numba's ``integers`` allocates
@@ -218,13 +217,11 @@ def splice_pairs(
         _splice(genes, a, b, rows_a * PLACEMENT_GENES, rows_b * PLACEMENT_GENES, out_genes, 2 * p)
         _splice(genes, b, a, rows_b * PLACEMENT_GENES, rows_a * PLACEMENT_GENES, out_genes, 2 * p + 1)
     if children % 2:
-        _splice(codons, parents[children - 1], np.int64(0), length, length, out_codons, children - 1)
-        _splice(
-            genes, parents[children - 1], np.int64(0), genes.shape[1], genes.shape[1], out_genes, children - 1
-        )
+        _splice(codons, parents[children - 1], 0, length, length, out_codons, children - 1)
+        _splice(genes, parents[children - 1], 0, genes.shape[1], genes.shape[1], out_genes, children - 1)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _elements_within(element_codons, cut):  # pragma: no cover - compiled
     """Elements complete once the first ``cut`` codons are read (they are in codon order)."""
     count = 0
@@ -233,7 +230,7 @@ def _elements_within(element_codons, cut):  # pragma: no cover - compiled
     return count
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _splice(source, head, tail, head_cut, tail_cut, out, row):  # pragma: no cover - compiled
     """``out[row]``: ``source[head]`` up to ``head_cut``, ``source[tail]`` from ``tail_cut`` for as
     long as both fit the width, and ``source[head]``'s own values in what is left."""

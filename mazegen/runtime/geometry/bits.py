@@ -12,8 +12,6 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
-from mazegen.runtime.compiling import inner_kernel
-
 ONE = np.uint64(1)
 ALL = np.uint64(0xFFFFFFFFFFFFFFFF)
 HIGH = np.uint64(63)
@@ -42,19 +40,19 @@ def _cttz(typingctx, x):  # pragma: no cover - compiled
     return x(x), codegen
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def lowest_bit(x):  # pragma: no cover - compiled
     """Index of the lowest set bit of a non-zero ``uint64``."""
     return int(_cttz(x))
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def popcount(x):  # pragma: no cover - compiled
     """Number of set bits of a ``uint64``."""
     return int(_ctpop(x))
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def span_mask(first, last, w):  # pragma: no cover - compiled
     """The bits of word ``w`` that lie in columns ``first..last`` (``w`` within their words)."""
     lo = first - 64 * w if w == first >> 6 else 0
@@ -63,7 +61,7 @@ def span_mask(first, last, w):  # pragma: no cover - compiled
     return ALL if width == 64 else ((ONE << np.uint64(width)) - ONE) << np.uint64(lo)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def set_block(rows, first_row, last_row, first, last):  # pragma: no cover - compiled
     """Set columns ``first..last`` of bit rows ``first_row..last_row`` of ``rows``."""
     for w in range(first >> 6, (last >> 6) + 1):
@@ -72,7 +70,7 @@ def set_block(rows, first_row, last_row, first, last):  # pragma: no cover - com
             rows[r, w] |= mask
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def is_set(row, c):  # pragma: no cover - compiled
     """Whether column ``c`` of a bit row is set."""
     return bool((row[c >> 6] >> np.uint64(c & 63)) & ONE)

@@ -21,7 +21,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.bits import HIGH, ONE, is_set, popcount, set_block
 from mazegen.runtime.geometry.elements import world_element
 
@@ -198,7 +197,7 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     return occupied_cells
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _widen_flat(source, out):  # pragma: no cover - compiled
     """``out`` = ``source`` with every set bit spread one column to each side (one flat bit string)."""
     last = source.shape[0] - 1
@@ -209,7 +208,7 @@ def _widen_flat(source, out):  # pragma: no cover - compiled
     out[last] = source[last] | (source[last] << ONE) | (source[last] >> ONE) | (source[last - 1] >> HIGH)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cover - compiled
     """Set every cell that convex part ``p`` of element ``k`` touches."""
     if box[2] < 0.0 or box[3] < 0.0 or box[0] > cols * cell or box[1] > rows * cell:
@@ -251,7 +250,7 @@ def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cov
         set_block(occupied, r, r, c0, c1)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
     """Whether every edge of the 4-vertex part ``p`` of element ``k`` is horizontal or vertical."""
     for v in range(4):
@@ -263,7 +262,7 @@ def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def is_free(free, r, c, cols):  # pragma: no cover - compiled
     """Whether cell ``(r, c)`` of the bit rows ``free`` is free; cells outside the grid are not."""
     return 0 <= r < free.shape[0] and 0 <= c < cols and is_set(free[r], c)

@@ -24,7 +24,6 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.threads import in_blocks
 from mazegen.spec import ElementType
 
@@ -153,7 +152,7 @@ _DP2 = 3.77489470793079817668e-8
 _DP3 = 2.69515142907905952645e-15
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _sincos(x):
     """Return ``(sin x, cos x)`` to about one ulp for ``|x| < 1e8``."""
     sign = math.copysign(1.0, x)
@@ -208,7 +207,7 @@ def _sincos(x):
     return s, c
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def world_element(shapes, e, row, wv, pbox, ebox, k):
     """Write element ``e``'s world vertices, part boxes and box to ``wv[k]``, ``pbox[k]``, ``ebox[k]``.
 

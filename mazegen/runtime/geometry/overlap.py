@@ -13,7 +13,6 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.elements import ElementTable, population_arrays, world_element
 from mazegen.runtime.threads import in_blocks
 
@@ -92,13 +91,13 @@ def _count(
 _REACH_MARGIN = 1.0 + 1e-9
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _reach(unit_radius, offset_radius, e, sx, sy):
     """Radius around its position that contains element type ``e`` at scale ``(sx, sy)``."""
     return (unit_radius[e] * max(sx, sy) + offset_radius[e]) * _REACH_MARGIN
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _boxes_meet(box, a, b):
     """True if two boxes' interiors intersect (touching boxes do not meet).
 
@@ -110,7 +109,7 @@ def _boxes_meet(box, a, b):
     )
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _edge_separates(wv, ka, pa, na, kb, pb, nb):
     """True if some edge line of convex CCW polygon A has all of B on its outer side.
 
@@ -134,7 +133,7 @@ def _edge_separates(wv, ka, pa, na, kb, pb, nb):
     return False
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox):
     """True if some part of element ``a`` (type ``ea``) overlaps some part of ``b`` (type ``eb``)."""
     for pa in range(n_parts[ea]):
@@ -217,6 +216,6 @@ def _outside_kernel(first, last, shapes, unit_radius, offset_radius, ids, n_el, 
             r = _reach(unit_radius, offset_radius, ids[i, k], params[i, k, 2], params[i, k, 3])
             if x - r >= 0.0 and y - r >= 0.0 and x + r <= width and y + r <= height:
                 continue  # the bounding circle is inside: no need to transform
-            world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, np.int64(0))
+            world_element(shapes, ids[i, k], params[i, k], wv, pbox, ebox, 0)
             count += (ebox[0, 0] < 0.0) | (ebox[0, 1] < 0.0) | (ebox[0, 2] > width) | (ebox[0, 3] > height)
         out[i] = count

@@ -25,7 +25,7 @@ UP_FIRST, UP_COUNT, DOWN_FIRST, DOWN_COUNT = 4, 5, 6, 7
 BELOW, ABOVE = 0, 1
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def runs_per_row(cols):  # pragma: no cover - compiled
     """The most free runs a row of ``cols`` cells can hold (free and blocked cells alternating)."""
     return cols // 2 + 1
@@ -84,7 +84,7 @@ def decompose(free, cols, cells, arrays):  # pragma: no cover - compiled
     return count, start, goal
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def same_as_below(free, r):  # pragma: no cover - compiled
     """Whether bit row ``r`` equals row ``r - 1`` (False for the first row): its runs are the same."""
     if r == 0:
@@ -95,7 +95,7 @@ def same_as_below(free, r):  # pragma: no cover - compiled
     return w == free.shape[1]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def row_runs_of(free, r, cols, out, slot):  # pragma: no cover - compiled
     """Free runs of row ``r`` into ``out[slot, :, :2]``, left to right; returns their number.
 
@@ -123,7 +123,7 @@ def row_runs_of(free, r, cols, out, slot):  # pragma: no cover - compiled
     return starts
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _join(runs, below, n_below, here, n_here, r, rects, edges, count, n_edges):  # pragma: no cover
     """Give each run of row ``r`` (``runs[here]``) its rectangle and record the edges to the
     rectangles of the row below (``runs[below]``).
@@ -169,7 +169,7 @@ def _join(runs, below, n_below, here, n_here, r, rects, edges, count, n_edges): 
     return count, n_edges
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def run_label_at(runs, slot, n_runs, c):  # pragma: no cover - compiled
     """The label (``runs[slot, i, 2]``) of the run holding column ``c``, or -1 when ``c`` is blocked."""
     for i in range(n_runs):

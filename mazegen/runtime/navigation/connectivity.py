@@ -22,7 +22,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry.cspace import Grid, cspace, grid_args, raster_arrays, straight_free
 from mazegen.runtime.geometry.rectangles import (
     row_runs_of,
@@ -111,7 +110,7 @@ def connected(free, cols, cells, runs, parent):  # pragma: no cover - compiled
     return start >= 0 and goal >= 0 and _root(parent, start) == _root(parent, goal)
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _join_runs(runs, below, n_below, here, n_here, parent, count):  # pragma: no cover - compiled
     """Label each run of ``runs[here]`` as the first run below it overlaps, uniting that run's set
     with those of the others it overlaps (a new label when it overlaps none); returns the labels
@@ -138,7 +137,7 @@ def _join_runs(runs, below, n_below, here, n_here, parent, count):  # pragma: no
     return count
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _unite(parent, a, b):  # pragma: no cover - compiled
     """Join the sets of ``a`` and ``b``."""
     a, b = _root(parent, a), _root(parent, b)
@@ -146,7 +145,7 @@ def _unite(parent, a, b):  # pragma: no cover - compiled
         parent[b] = a
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _root(parent, a):  # pragma: no cover - compiled
     """The root of ``a``'s set, halving the path on the way."""
     while parent[a] != a:

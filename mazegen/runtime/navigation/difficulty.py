@@ -240,7 +240,7 @@ def path_cells(corners, turns, free, cell, cols, out):  # pragma: no cover - com
     return count
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _free_cell_at(free, x, y, cols):  # pragma: no cover - compiled
     """A free cell holding the point ``(x, y)`` (in cells), or (-1, -1)."""
     r0, c0 = math.floor(y), math.floor(x)
@@ -314,7 +314,7 @@ def fill_free_steps(free, cols, arrays):  # pragma: no cover - compiled
             cells = is_open[r + 1, 1 + 64 * w : 1 + min(64 * (w + 1), cols)]
             for b in range(cells.shape[0]):
                 cells[b] = (x >> np.uint64(b)) & ONE
-        for j in range(row_runs_of(free, r, cols, runs, np.int64(0))):
+        for j in range(row_runs_of(free, r, cols, runs, 0)):
             lo, hi = runs[0, j, 0], runs[0, j, 1]
             right = steps[0, r + 1, lo + 1 : hi + 2]
             left = steps[4, r + 1, lo + 1 : hi + 2]

@@ -155,9 +155,10 @@ def _corner_paths(shapes, ids, n_el, params, valid, grid, rows):  # pragma: no c
 def copy_points(source, start, out, out_start, count):  # pragma: no cover - compiled
     """``out[out_start:][:count] = source[start:][:count]`` for rows of two coordinates, as a loop (a
     slice assignment compiles a shape check and its message)."""
+    taken, put = source[start : start + count], out[out_start : out_start + count]
     for k in range(count):
-        out[out_start + k, 0] = source[start + k, 0]
-        out[out_start + k, 1] = source[start + k, 1]
+        put[k, 0] = taken[k, 0]
+        put[k, 1] = taken[k, 1]
 
 
 @njit(cache=True, nogil=True)
@@ -246,7 +247,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     last = heads.shape[0] - 1
     lowest = min(int(math.sqrt((gx - sx) * (gx - sx) + (gy - sy) * (gy - sy))), last)
     first_used = highest = lowest
-    used = _enqueue(heads, entries, np.int64(0), lowest, start)
+    used = _enqueue(heads, entries, 0, lowest, start)
     while True:
         while lowest <= highest and heads[lowest] < 0:
             lowest += 1
@@ -305,7 +306,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     return True, total * cell, turns
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
     entries[used, 0] = heads[bucket]
     entries[used, 1] = node
@@ -322,7 +323,7 @@ def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma:
     when walking through it; the funnel algorithm pulls the path taut. The path's
     vertices, start and goal included, go to ``corners``.
     """
-    _portal(portals, np.int64(0), sx, sy, sx, sy)
+    _portal(portals, 0, sx, sy, sx, sy)
     n = 1
     for h in range(hops - 1, 0, -1):
         a, b = corridor[h], corridor[h - 1]
@@ -372,12 +373,12 @@ def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma:
     return total + math.sqrt((gx - ax) * (gx - ax) + (gy - ay) * (gy - ay)), turns + 1
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
 def _portal(portals, n, lx, ly, rx, ry):  # pragma: no cover - compiled
     portals[n, 0], portals[n, 1], portals[n, 2], portals[n, 3] = lx, ly, rx, ry
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _cross(ax, ay, bx, by, cx, cy):  # pragma: no cover - compiled
     """Twice the signed area of triangle a, b, c: positive when c lies left of a → b."""
     return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)

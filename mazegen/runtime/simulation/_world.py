@@ -97,7 +97,7 @@ def _place(
         q = first[m]
         for k in range(n_el[i]):
             e = ids[i, k]
-            world_element(shapes, e, params[i, k], placed, part_box, element_box, np.int64(0))
+            world_element(shapes, e, params[i, k], placed, part_box, element_box, 0)
             for p in range(n_parts[e]):
                 count[q] = n_vertices[e, p]
                 for v in range(count[q]):
