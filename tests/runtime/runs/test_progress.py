@@ -88,41 +88,27 @@ def test_a_first_run_says_it_is_compiling(monkeypatch, tmp_path):
         reporter = Notes()
         mazegen.run(spec, population=20, generations=1, reporter=reporter)
         assert reporter.notes == notes
-    # `mazegen score` says it on standard error and keeps its table on standard output.
-    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): False)
-    floor = floor_file(tmp_path / "floor.json", {"type": "router", "x": 300, "y": 100, "size": 30})
-    result = CliRunner().invoke(main, ["score", str(EXAMPLES / "factory.maze"), str(floor)])
-    assert result.exit_code == 0
-    assert result.stderr.splitlines() == [FIRST_COMPILE_NOTE]
-    assert result.stdout.splitlines()[:2] == ["fitness\t1", "elements\t1"]
 
 
-def test_score_looks_for_kernels_that_score_compiles(tmp_path, monkeypatch):
-    # Looking for the mapping kernel of runs, which score never calls, made every score say it
-    # was compiling, also with a warm cache.
-    asked: list[str] = []
+def test_a_score_that_compiles_says_so_once_and_keeps_its_table(monkeypatch, tmp_path):
+    from numba import njit
 
-    def cached(kernels: tuple[str, ...] = mazegen.runtime.EVERY_RUN_KERNELS) -> bool:
-        asked.extend(kernels)
-        return True
+    from mazegen.runtime.compiling import DRIVE_SECONDS, compile_note
+    from mazegen.runtime.documents.scoring import Scorer
 
-    monkeypatch.setattr(mazegen.runtime, "kernels_cached", cached)
+    monkeypatch.undo()  # the real note, not the tests' silence (conftest)
     floor = floor_file(tmp_path / "floor.json", {"type": "router", "x": 300, "y": 100, "size": 30})
     score = ["score", str(EXAMPLES / "factory.maze"), str(floor)]
-    assert CliRunner().invoke(main, score).exit_code == 0
-    assert asked
-    called: set[str] = set()
-    for name in set(asked):
-        module_name, function = name.split(".")
-        module = importlib.import_module(kernel_module(module_name))
-        kernel = getattr(module, function)
+    CliRunner().invoke(main, score)  # compiles what is not cached yet
+    quiet = CliRunner().invoke(main, score)
+    real_score = Scorer.score
 
-        def recorded(*args, name=name, kernel=kernel, **kwargs):
-            called.add(name)
-            return kernel(*args, **kwargs)
+    def compiling(self, *args, **kwargs):  # as a score whose kernels were never compiled would
+        njit(lambda x: x + 5)(1)
+        return real_score(self, *args, **kwargs)
 
-        monkeypatch.setattr(module, function, recorded)
-    assert CliRunner().invoke(main, score).exit_code == 0
-    assert called == set(asked)  # so score compiles them when they are missing
-    folder = Path(numba.config.CACHE_DIR)  # and numba files them under those names
-    assert all(any(folder.rglob(f"{name}-*.nbi")) for name in asked)
+    monkeypatch.setattr(Scorer, "score", compiling)
+    noted = CliRunner().invoke(main, score)
+    assert quiet.exit_code == noted.exit_code == 0 and quiet.stderr == ""
+    assert noted.stderr.splitlines() == [compile_note("score", DRIVE_SECONDS)]
+    assert noted.stdout == quiet.stdout and noted.stdout.splitlines()[:2] == ["fitness\t1", "elements\t1"]
