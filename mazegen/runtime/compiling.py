@@ -20,13 +20,13 @@ inner_kernel = njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-ov
 """The decorator of a kernel that only other kernels call: compiled without the wrapper that lets
 Python call it, which a first run would spend seconds on (docs/architecture.md, Compiling)."""
 
-RUN_SECONDS = 60
+RUN_SECONDS = 75
 """Seconds a first run waits for its kernels, at most, on a quiet 2-core machine (``benchmarks/startup.py``
-measured 32 s for ``mazegen run``, which compiles on both cores, 56 s for a run of the Python API,
+measured 39 s for ``mazegen run``, which compiles on both cores, 72 s for a run of the Python API,
 ``resume`` or ``sweep``, which compile on one)."""
 
-DRIVE_SECONDS = 20
-"""Seconds a first drive with one bundled controller waits, at most, likewise (12–20 s measured)."""
+DRIVE_SECONDS = 30
+"""Seconds a first drive with one bundled controller waits, at most, likewise (15–25 s measured)."""
 
 
 def compile_note(work: str, seconds: int) -> str:
