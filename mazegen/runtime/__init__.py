@@ -71,7 +71,9 @@ CONTROLLER_KERNELS = {
     "dwa": "_dwa.dwa_command",
     "vfh": "_vfh.vfh_command",
 }
-"""The kernel of each bundled controller: the episode loop compiles once per controller, with it."""
+"""The kernel of each bundled controller: the episode loop compiles once per controller, with it.
+Each is compiled on its own, not inlined into the loop, so that its cache file says the controller
+was compiled (tests/runtime/test_compiling.py)."""
 
 POLICY_KERNEL = "_policy._apply"
 """The kernel that steps the robots of a user's policy."""

@@ -29,7 +29,7 @@ def wrap(angle):  # pragma: no cover - compiled
     return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def straight_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
 ):  # pragma: no cover
@@ -84,7 +84,7 @@ def carrot(path, x, y, reach):  # pragma: no cover - compiled
     return path[n - 1, 0], path[n - 1, 1]
 
 
-@njit(cache=True, inline="always")
+@njit(cache=True)
 def purepursuit_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
 ):  # pragma: no cover
