@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from contextlib import nullcontext
 from pathlib import Path
+from types import SimpleNamespace
 
 import pytest
 
@@ -67,3 +68,33 @@ def small_reference(tmp_path_factory) -> dict[str, str]:
     out = tmp_path_factory.mktemp("small-reference") / "run"
     small_run(out)
     return file_digests(out)
+
+
+@pytest.fixture
+def register_plugins(monkeypatch):
+    """``register_plugins(kind, {name: object})`` makes ``mazegen.plugins`` see ``object`` registered
+    as ``name`` under ``kind``'s entry point group by a package ``fake-plugins 1.0``, as an installed
+    package's ``pyproject.toml`` would."""
+    from importlib.metadata import EntryPoint
+
+    from mazegen import plugins
+
+    registered: dict[str, list[EntryPoint]] = {}
+    real = plugins._entry_points
+
+    class _Registered(EntryPoint):
+        def load(self):
+            return self._target
+
+        @property
+        def dist(self):
+            return SimpleNamespace(metadata={"Name": "fake-plugins"}, version="1.0")
+
+    def register(kind: str, named: dict[str, object]) -> None:
+        for name, target in named.items():
+            point = _Registered(name, f"fake_plugins:{name}", plugins.GROUPS[kind])
+            object.__setattr__(point, "_target", target)
+            registered.setdefault(kind, []).append(point)
+
+    monkeypatch.setattr(plugins, "_entry_points", lambda kind: [*real(kind), *registered.get(kind, [])])
+    return register

@@ -11,7 +11,6 @@ section, and its picture, to the same relative place in ``DIR``.
 from __future__ import annotations
 
 import contextlib
-import importlib.metadata
 import json
 from collections.abc import Sequence
 from functools import partial
@@ -20,6 +19,7 @@ from typing import TYPE_CHECKING, NoReturn
 
 import click
 
+from mazegen import plugins
 from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
@@ -31,9 +31,6 @@ if TYPE_CHECKING:
     from mazegen.runtime.exporters.floor import Floor
     from mazegen.spec import Spec
 
-ENTRY_POINTS = "mazegen.controllers"
-"""The entry point group under which installed packages register controllers."""
-
 
 def controller_names(given: Sequence[str]) -> list[str]:
     """The controllers of ``--controller`` options (each one name or a comma-separated list), in
@@ -44,7 +41,7 @@ def controller_names(given: Sequence[str]) -> list[str]:
     policy (loaded when it drives), or registered by an installed package.
     """
     names = list(dict.fromkeys(name.strip() for text in given for name in text.split(",") if name.strip()))
-    registered = {point.name for point in importlib.metadata.entry_points(group=ENTRY_POINTS)}
+    registered = set(plugins.names("controllers"))
     for name in names:
         if ":" in name and not is_policy_path(name):
             _usage_error(malformed_path(name))

@@ -10,9 +10,9 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from importlib.metadata import entry_points
 from typing import Any
 
+from mazegen import plugins
 from mazegen.controllers import ANGLE, BUNDLED, LENGTH, SPEED, TIME, TURN, Parameter
 from mazegen.dsl.bounds import MAX_LENGTH, MAX_TARGET
 from mazegen.dsl.located import fail, single_properties, suggestion, where
@@ -26,9 +26,6 @@ from mazegen.spec import (
     robot_for,
     unsized_problem,
 )
-
-ENTRY_POINT_GROUP = "mazegen.controllers"
-"""Where an installed package registers controllers by name."""
 
 
 @dataclass(frozen=True)
@@ -103,7 +100,7 @@ def _setting_value(node: Any, setting: _Setting) -> float:
 
 def registered_controllers() -> list[str]:
     """Names installed packages register under the ``mazegen.controllers`` entry point."""
-    return sorted(point.name for point in entry_points(group=ENTRY_POINT_GROUP))
+    return plugins.names("controllers")
 
 
 def check_controller_name(node: Any, name: str) -> None:

@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import math
 import sys
-from types import SimpleNamespace
 
 import pytest
 
 from mazegen.controllers import BUNDLED
-from mazegen.dsl import robot as robot_block
 from mazegen.dsl.loader import load_spec
 from mazegen.errors import MazeError
 from mazegen.spec import ControllerSpec, FitnessTerm, Spec, robot_for
@@ -111,14 +109,11 @@ def test_a_policys_module_is_found_in_the_current_folder(write_spec, tmp_path, m
     assert spec.robot is not None and spec.robot.controllers == (ControllerSpec("here_policy:policy"),)
 
 
-def test_a_controller_a_package_registers_is_known(write_spec, monkeypatch):
+def test_a_controller_a_package_registers_is_known(write_spec, register_plugins):
     path = write_spec(HEAD + "fitness { controller mpc fails }\n")
     with pytest.raises(MazeError, match="unknown controller 'mpc'"):
         load_spec(path)
-    registered = [SimpleNamespace(name="mpc")]
-    monkeypatch.setattr(
-        robot_block, "entry_points", lambda group: registered if group == "mazegen.controllers" else []
-    )
+    register_plugins("controllers", {"mpc": lambda observations: None})
     assert load_spec(path).robot.controllers == (ControllerSpec("mpc"),)
 
 

@@ -9,21 +9,18 @@ bundled controller's parameters are its defaults (SI, lengths scaled to the aren
 
 from __future__ import annotations
 
-import importlib.metadata
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
+from mazegen import plugins
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
 from mazegen.policies import SEARCHED, import_policy_module, is_policy_path, malformed_path
 from mazegen.runtime.simulation._loop import CODES
 from mazegen.spec import Arena, ControllerSpec, Robot, metres_per_unit
-
-ENTRY_POINTS = "mazegen.controllers"
-"""The entry point group under which packages register controllers."""
 
 PATHS = frozenset({"purepursuit", "dwa"})
 """Bundled controllers that read MazeGen's path."""
@@ -122,19 +119,15 @@ def load_policy(name: str) -> Callable[[Any], Any]:
         except (Exception, SystemExit) as error:  # the user's module: its failure said in one line
             raise MazeError(f"controller {name}: cannot load it ({type(error).__name__}: {error})") from error
     else:
-        points = [p for p in importlib.metadata.entry_points(group=ENTRY_POINTS) if p.name == name]
-        if not points:
+        plugin = plugins.find("controllers", name)
+        if plugin is None:
             known = ", ".join(sorted(BUNDLED))
             raise MazeError(
                 f"unknown controller {name!r}: not bundled ({known}), not a dotted path "
-                f"package.module:name, and no installed package registers it under {ENTRY_POINTS}"
+                "package.module:name, and no installed package registers it under "
+                + plugins.GROUPS["controllers"]
             )
-        try:
-            found = points[0].load()
-        except (Exception, SystemExit) as error:  # a broken package: its own error, said in one line
-            raise MazeError(
-                f"controller {name}: its entry point {points[0].value} fails to load ({error})"
-            ) from error
+        found = plugin.load()
     if not callable(found):
         raise MazeError(f"controller {name} is not callable: a policy is called with the observations")
     return found
