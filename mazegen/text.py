@@ -58,3 +58,8 @@ def decode_escapes(part: str) -> str:
             return codecs.decode(part.encode("latin-1", "backslashreplace"), "unicode-escape")
     except UnicodeDecodeError as exc:
         raise ValueError(exc.reason) from None
+
+
+def number(value: float) -> str:
+    """A number as the language writes it: ``1400`` rather than ``1400.0``, ``0.05`` as is."""
+    return str(int(value)) if float(value).is_integer() and abs(value) < 1e15 else repr(float(value))

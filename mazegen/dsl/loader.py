@@ -164,7 +164,7 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
     if scenario.placement is None:  # else the grammar's numbers size the elements, not their ranges
         for element in elements:
             check_fits(element_decls[element.name], element, arena)
-    fitness = convert_fitness(singles.get("FitnessDecl"))
+    fitness = convert_fitness(singles.get("FitnessDecl"), scenario.elements)
     robot = convert_robot(singles.get("RobotDecl"), arena, fitness, singles.get("FitnessDecl"))
     return Spec(
         name=scenario.name,
