@@ -14,6 +14,7 @@ from mazegen.errors import MazeError
 from mazegen.metric_plugins import metric_function
 from mazegen.runtime.plugin_view import Floors
 from tests.runtime.floors import ARENA, NAMES, ZIGZAG, population
+from tests.runtime.rundirs import file_digests
 
 HEAD = """\
 element box { shape square size 40..120 }
@@ -72,14 +73,30 @@ def test_an_installed_metric_scores_like_the_same_file(tmp_path, register_plugin
     assert by_file["terms"] == installed["terms"] and by_file["elements"] == installed["elements"]
 
 
-def test_a_plugin_run_is_byte_for_byte_alike_in_worker_processes(tmp_path):
+def test_a_plugin_run_writes_the_same_files_on_every_executor(tmp_path, register_plugins):
+    """File plug-ins load in every worker; a worker lacking an installed plug-in's package names it."""
+    distributed = pytest.importorskip("distributed")
     path = _spec(tmp_path, 'metric dock_clearance from "dock.py" penalty 3')
     api.run(path, out_dir=tmp_path / "serial", catalog=False, runs=2)
     api.run(path, out_dir=tmp_path / "local", catalog=False, runs=2, executor="local", workers=2)
-    serial = sorted((tmp_path / "serial").glob("run-*/best-*.json"))
-    assert serial
-    for file in serial:
-        assert file.read_bytes() == (tmp_path / "local" / file.relative_to(tmp_path / "serial")).read_bytes()
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1", dashboard_address=None
+    ) as cluster:
+        dask = {"executor": "dask", "scheduler": cluster.scheduler_address}
+        api.run(path, out_dir=tmp_path / "dask", catalog=False, runs=2, **dask)
+        register_plugins("metrics", {"far_from_dock": lambda floors: floors.x[:, 0]})  # here, not there
+        with pytest.raises(MazeError) as caught:
+            api.run(
+                _spec(tmp_path, "metric far_from_dock"), out_dir=tmp_path / "lacking", catalog=False, **dask
+            )
+    serial = file_digests(tmp_path / "serial")
+    assert any("best" in name for name in serial)
+    assert file_digests(tmp_path / "local") == serial
+    assert file_digests(tmp_path / "dask") == serial
+    assert str(caught.value).endswith(
+        "metric 'far_from_dock': metric plug-in 'far_from_dock' is not installed in this environment: no "
+        "package registers it under mazegen.metrics (install fake-plugins here)"
+    )
 
 
 def test_a_reject_term_rejects_above_its_threshold(tmp_path):
