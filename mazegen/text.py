@@ -1,9 +1,12 @@
-"""Text from users' files: made safe to print on one terminal line, and grammar escapes decoded."""
+"""Text from users' files: made safe to print on one terminal line, grammar escapes decoded, and the
+known name suggested for a misspelt one."""
 
 from __future__ import annotations
 
 import codecs
+import difflib
 import warnings
+from collections.abc import Iterable
 
 _NAMED = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
 
@@ -41,6 +44,12 @@ def printable(text: str, *, limit: int | None = None) -> str:
 def quoted(text: str, *, limit: int = 40) -> str:
     """``'text'`` for a message: printable and cut to ``limit`` characters."""
     return f"'{printable(text, limit=limit)}'"
+
+
+def suggestion(name: str, known: Iterable[str]) -> str:
+    """`` (did you mean 'x'?)`` when a known name is close to ``name``."""
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
 
 
 def decode_escapes(part: str) -> str:

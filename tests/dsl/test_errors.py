@@ -816,6 +816,60 @@ def test_bad_spec_gives_located_message(write_spec, name, text, where, fragment)
     assert len(caught.value.message) < 300  # a huge token is quoted cut
 
 
+LIBRARY_PLUGIN = "library plug-in 'warehouse' of fake-plugins 1.0"
+
+# (name, what packages register as libraries, text, expected line:col, expected message)
+BAD_LIBRARY_PLUGINS = [
+    (
+        "a library plug-in that is no path",
+        [{"warehouse": 3}],
+        "import warehouse\n" + spec(),
+        "1:1",
+        f"{LIBRARY_PLUGIN} gives int, not the path of a .maze file",
+    ),
+    (
+        "a library plug-in naming no file",
+        [{"warehouse": "/nonexistent/warehouse.maze"}],
+        "import figures\nimport warehouse\n" + spec(),
+        "2:1",
+        f"{LIBRARY_PLUGIN} gives the path '/nonexistent/warehouse.maze', which is no file",
+    ),
+    (
+        "a library two packages register",
+        [{"warehouse": "/a.maze"}, {"warehouse": "/b.maze"}],
+        "import warehouse\n" + spec(),
+        "1:1",
+        "library plug-in 'warehouse' is registered by more than one package (fake-plugins 1.0, "
+        "fake-plugins 1.0): uninstall all but one",
+    ),
+    (
+        "an unknown library among registered ones",
+        [{"warehouse": "/a.maze"}],
+        "import wharehouse\n" + spec(),
+        "1:1",
+        "unknown library 'wharehouse' (did you mean 'warehouse'?) (bundled: figures, manufacturing; "
+        "registered: warehouse; import a file with a quoted path)",
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("name", "registered", "text", "where", "message"),
+    BAD_LIBRARY_PLUGINS,
+    ids=[row[0] for row in BAD_LIBRARY_PLUGINS],
+)
+def test_a_bad_library_plugin_gives_a_message_at_the_import(
+    write_spec, register_plugins, name, registered, text, where, message
+):
+    for libraries in registered:
+        register_plugins("libraries", libraries)
+    path = write_spec(text)
+    with pytest.raises(MazeError) as caught:
+        load_spec(path)
+    assert str(caught.value) == f"{caught.value.filename}:{where}: {message}"
+    assert caught.value.filename.endswith("spec.maze")
+
+
 def test_missing_file_is_reported(tmp_path):
     with pytest.raises(MazeError, match="no such spec file"):
         load_spec(tmp_path / "absent.maze")
