@@ -30,9 +30,9 @@ import numpy as np
 def dock_clearance(floors, x=500.0, y=400.0):
     """Distance from the dock at (x, y) to the nearest element's bounding box, metres (at most 5)."""
     box = floors.bounds
-    dx = np.fmax(np.fmax(box[..., 0] - x, x - box[..., 2]), 0.0)
-    dy = np.fmax(np.fmax(box[..., 1] - y, y - box[..., 3]), 0.0)
-    nearest = np.fmin.reduce(np.hypot(dx, dy), axis=1, initial=np.inf)
+    dx = np.maximum(np.maximum(box[..., 0] - x, x - box[..., 2]), 0.0)  # NaN in empty slots
+    dy = np.maximum(np.maximum(box[..., 1] - y, y - box[..., 3]), 0.0)
+    nearest = np.fmin.reduce(np.hypot(dx, dy), axis=1, initial=np.inf)  # fmin skips NaN
     return np.minimum(nearest * floors.metres_per_unit, 5.0)
 '''
 
