@@ -17,7 +17,8 @@ from mazegen.errors import MazeError
 from mazegen.metric_plugins import metric_function
 from mazegen.runtime import simulation
 from mazegen.runtime.engine.population import SX, SY, Population
-from mazegen.runtime.geometry import overlap
+from mazegen.runtime.geometry.overlap import elements_outside as elements_outside_of
+from mazegen.runtime.geometry.overlap import overlapping_pairs as overlapping_pairs_of
 from mazegen.runtime.navigation.measures import navigation_of, reach_of, survey_of
 from mazegen.runtime.plugin_view import Floors
 from mazegen.spec import Robot, robot_for
@@ -33,9 +34,7 @@ def element_count(pop: Population) -> np.ndarray:
 
 def overlapping_pairs(pop: Population) -> np.ndarray:
     """Pairs of elements whose interiors intersect (paper eq. 2's N_overlapped)."""
-    return overlap.overlapping_pairs(pop.table, pop.element_ids, pop.n_elements, pop.params).astype(
-        np.float64
-    )
+    return overlapping_pairs_of(pop.table, pop.element_ids, pop.n_elements, pop.params).astype(np.float64)
 
 
 def elements_over_size(pop: Population, limit: float) -> np.ndarray:
@@ -55,7 +54,7 @@ def _count_over_size(params, n_elements, limit):  # pragma: no cover - compiled
 def elements_outside(pop: Population) -> np.ndarray:
     """Elements not wholly inside the arena."""
     arena = pop.arena
-    return overlap.elements_outside(
+    return elements_outside_of(
         pop.table, pop.element_ids, pop.n_elements, pop.params, arena.width, arena.height
     ).astype(np.float64)
 
