@@ -3,7 +3,10 @@ every executor, and each way it can go wrong said in one located line."""
 
 from __future__ import annotations
 
+import json
 import math
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -175,3 +178,75 @@ def test_the_floors_view_reads_its_population_and_cannot_write_it():
             array.flat[0] = 1
     with pytest.raises(IndexError, match="floor 1 has 1 elements, not 2"):
         floors.outline(1, 1)
+
+
+def test_a_plugin_term_works_in_every_command(tmp_path):
+    """Resume, sweep, suite, score, drive and a build's own experiment.py all score with it."""
+    from click.testing import CliRunner
+
+    from mazegen.cli.main import main
+
+    path = _spec(tmp_path, 'metric dock_clearance(y=600) from "dock.py" weight 5')
+
+    def ok(*arguments: str | Path) -> str:
+        done = CliRunner().invoke(main, [str(a) for a in arguments], catch_exceptions=False)
+        assert done.exit_code == 0, done.output
+        return done.output
+
+    ok("run", path, "-o", tmp_path / "run", "-q")
+    ok("sweep", path, "--set", "seed=1..2", "-o", tmp_path / "sweep", "-q")
+    cells = sorted((tmp_path / "sweep").glob("*/run-01/best-01.json"))
+    assert len(cells) == 2 and all("dock_clearance" in _terms(cell) for cell in cells)
+    ok("suite", path, "--size", "4", "--iterations", "2", "--batch", "30", "-o", tmp_path / "suite", "-q")
+    assert all(
+        "dock_clearance" in _terms(file)
+        for file in (tmp_path / "suite").glob("*.json")
+        if "terms" in file.read_text()
+    )
+    best = tmp_path / "run" / "run-01" / "best-01.json"
+    assert "dock_clearance" in ok("score", path, best)
+    ok("drive", tmp_path / "run", "--controller", "straight", "-o", tmp_path / "driven")
+    assert "dock_clearance" in _terms(next((tmp_path / "driven").rglob("best-01.json")))
+    ok("build", path, "-o", tmp_path / "build")
+    generated = subprocess.run(
+        [sys.executable, "experiment.py", "-o", tmp_path / "generated"],
+        cwd=tmp_path / "build",
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert generated.returncode == 0, generated.stderr
+    assert "dock_clearance" in _terms(tmp_path / "generated" / "run-01" / "best-01.json")
+
+
+def _terms(file: Path) -> dict:
+    return json.loads(file.read_text(encoding="utf-8")).get("terms") or {}
+
+
+STOPPING = """
+import os
+
+calls = 0
+
+
+def interrupting(floors):
+    # The dock's clearance; Ctrl-C at the STOP_AT-th call once STOP_AT is set, as a user would press it.
+    global calls
+    if os.environ.get("STOP_AT"):
+        calls += 1
+        if calls == int(os.environ["STOP_AT"]):
+            raise KeyboardInterrupt
+    return dock_clearance(floors)
+"""
+
+
+def test_a_plugin_run_resumes_as_if_never_interrupted(tmp_path, monkeypatch):
+    (tmp_path / "stop.py").write_text(DOCK + STOPPING, encoding="utf-8")
+    path = _spec(tmp_path, 'metric interrupting from "stop.py" weight 5')
+    api.run(path, out_dir=tmp_path / "whole", catalog=False, runs=2)
+    monkeypatch.setenv("STOP_AT", "7")  # in the second run: the first evaluates 5 generations
+    with pytest.raises(KeyboardInterrupt):
+        api.run(path, out_dir=tmp_path / "stopped", catalog=False, runs=2, checkpoint_every=1)
+    monkeypatch.delenv("STOP_AT")
+    api.resume(tmp_path / "stopped", catalog=False)
+    assert file_digests(tmp_path / "stopped") == file_digests(tmp_path / "whole")
