@@ -13,6 +13,8 @@ from typing import TYPE_CHECKING
 
 import numba
 
+from mazegen.controllers import BUNDLED
+
 if TYPE_CHECKING:
     from mazegen.spec import Spec
 
@@ -65,17 +67,12 @@ EVERY_RUN_KERNELS = ("mapping._map_all", "difficulty._survey_all")
 both was never filled, or its filling was cut short."""
 
 
-CONTROLLER_KERNELS = {
-    "straight": "_controllers.straight_command",
-    "purepursuit": "_controllers.purepursuit_command",
-    "dwa": "_dwa.dwa_command",
-    "vfh": "_vfh.vfh_command",
-}
-"""The kernel of each bundled controller: the episode loop compiles once per controller, with it.
-Each is compiled on its own, not inlined into the loop, so that its cache file says the controller
+CONTROLLER_KERNELS = {name: row.kernel for name, row in BUNDLED.items()}
+"""The kernel of each bundled controller, its row's: the episode loop compiles once per controller,
+with it. Each is compiled on its own, not inlined into the loop, so that its cache file says the controller
 was compiled (tests/runtime/test_compiling.py)."""
 
-POLICY_KERNEL = "_policy._apply"
+POLICY_KERNEL = "_step._apply"
 """The kernel that steps the robots of a user's policy."""
 
 

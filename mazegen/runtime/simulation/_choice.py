@@ -16,22 +16,10 @@ from typing import Any
 import numpy as np
 
 from mazegen import plugins
-from mazegen.controllers import BUNDLED
+from mazegen.controllers import BUNDLED, LIDAR, PATH
 from mazegen.errors import MazeError
 from mazegen.policies import SEARCHED, import_policy_module, is_policy_path, malformed_path
-from mazegen.runtime.simulation._loop import CODES
 from mazegen.spec import Arena, ControllerSpec, Robot, metres_per_unit
-
-PATHS = frozenset({"purepursuit", "dwa"})
-"""Bundled controllers that read MazeGen's path."""
-FIELDS = frozenset({"dwa"})
-"""Bundled controllers that read the navigation and clearance fields (:mod:`._fields`)."""
-MARGINS = {"purepursuit": "path_margin", "dwa": "path_margin"}
-"""Bundled controllers that follow the path of a wider robot where there is one: the parameter
-saying how much wider (:func:`mazegen.runtime.simulation._paths.floor_paths`)."""
-WINDOWS = {"vfh": "window"}
-"""Bundled lidar controllers that ignore readings beyond a parameter's distance: their lidar is
-cast no farther (the same commands, a cheaper scan)."""
 
 
 @dataclass(frozen=True)
@@ -42,18 +30,26 @@ class Choice:
         name: What the episodes are labelled with.
         code: The bundled controller's code in the episode loop, -1 for a user's policy.
         params: ``float64[:]`` the bundled controller's parameters, in arena units.
-        lidar: Whether it reads the lidar.
+        reads: What it reads of :data:`~mazegen.controllers.LIDAR`, ``PATH`` and ``FIELDS`` (a
+            user's policy: the lidar).
         margin: How much wider than the robot the path it reads is searched for (0: MazeGen's own
             path), or None when it reads no path.
+        reach: How far its lidar is cast: the robot's range, or less where it reads less.
         policy: The user's batch policy, or None.
     """
 
     name: str
     code: int
     params: np.ndarray
-    lidar: bool
+    reads: frozenset[str]
     margin: float | None
+    reach: float
     policy: Callable[[Any], Any] | None = None
+
+    @property
+    def lidar(self) -> bool:
+        """Whether it reads the lidar."""
+        return LIDAR in self.reads
 
 
 def choose(controller: str | ControllerSpec | Callable[[Any], Any], robot: Robot, arena: Arena) -> Choice:
@@ -64,20 +60,26 @@ def choose(controller: str | ControllerSpec | Callable[[Any], Any], robot: Robot
         name, overrides = controller, robot.controller(controller).params
     elif callable(controller):
         label = getattr(controller, "__name__", type(controller).__name__)
-        return Choice(label, -1, np.zeros(0), True, None, controller)
+        return _policy_choice(label, controller, robot)
     else:
         raise MazeError(f"a controller is a name or a policy, got {type(controller).__name__}")
-    if name in BUNDLED:
-        if name not in CODES:
-            raise MazeError(f"controller {name} is not in this build of the simulator")
-        params = bundled_params(name, overrides, arena)
-        margin = None if name not in PATHS else 0.0
-        if name in MARGINS:
-            margin = named(name, params, MARGINS[name])
-        return Choice(name, CODES[name], params, BUNDLED[name].lidar, margin)
-    if overrides:
-        raise MazeError(f"controller {name} is a user's policy: it takes no parameters from the spec")
-    return Choice(name, -1, np.zeros(0), True, None, load_policy(name))
+    if name not in BUNDLED:
+        if overrides:
+            raise MazeError(f"controller {name} is a user's policy: it takes no parameters from the spec")
+        return _policy_choice(name, load_policy(name), robot)
+    row = BUNDLED[name]
+    params = bundled_params(name, overrides, arena)
+    margin = None
+    if PATH in row.reads:
+        margin = 0.0 if row.margin is None else float(params[row.index(row.margin)])
+    reach = robot.lidar_range
+    if row.window is not None:  # readings beyond its window change nothing: cast no farther
+        reach = min(reach, float(params[row.index(row.window)]))
+    return Choice(name, row.code, params, row.reads, margin, reach)
+
+
+def _policy_choice(name: str, policy: Callable[[Any], Any], robot: Robot) -> Choice:
+    return Choice(name, -1, np.zeros(0), frozenset({LIDAR}), None, robot.lidar_range, policy)
 
 
 def bundled_params(name: str, overrides: tuple[tuple[str, float], ...], arena: Arena) -> np.ndarray:
@@ -131,15 +133,3 @@ def load_policy(name: str) -> Callable[[Any], Any]:
     if not callable(found):
         raise MazeError(f"controller {name} is not callable: a policy is called with the observations")
     return found
-
-
-def lidar_reach(choice: Choice, robot: Robot) -> float:
-    """How far ``choice``'s lidar is cast: the robot's range, or less where the controller reads less."""
-    if choice.policy is not None or choice.name not in WINDOWS:
-        return robot.lidar_range
-    return min(robot.lidar_range, named(choice.name, choice.params, WINDOWS[choice.name]))
-
-
-def named(name: str, params: np.ndarray, parameter: str) -> float:
-    """The value of bundled controller ``name``'s ``parameter`` in its ``params`` array."""
-    return float(params[[p.name for p in BUNDLED[name].parameters].index(parameter)])

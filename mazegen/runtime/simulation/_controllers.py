@@ -5,10 +5,11 @@ Every per-robot controller kernel has the one signature the episode loop dispatc
 
     NAME_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles, out)
 
-``params`` are the controller's parameters in :mod:`mazegen.controllers` order (lengths in arena
-units), ``limits`` the robot's (see :data:`LIMITS`), ``pose`` ``(x, y, theta, v, w)``, ``goal``
-``(gx, gy)``; ``nav``, ``clear`` and ``grid`` are the navigation and clearance fields, ``path``
-MazeGen's path corners, ``scan`` and ``angles`` the lidar; the command ``(v, w)`` goes to ``out``.
+``params`` are the controller's parameters in the order of its row of :mod:`mazegen.controllers`
+(lengths in arena units), ``limits`` the robot's (in :data:`mazegen.controllers.LIMITS` order),
+``pose`` ``(x, y, theta, v, w)``, ``goal`` ``(gx, gy)``; ``nav``, ``clear`` and ``grid`` are the
+navigation and clearance fields, ``path`` MazeGen's path corners, ``scan`` and ``angles`` the
+lidar; the command ``(v, w)`` goes to ``out``.
 The loop clamps it to the robot's limits and acceleration window afterwards.
 """
 
@@ -18,9 +19,15 @@ import math
 
 from numba import njit
 
-LIMITS = ("max_speed", "min_speed", "max_turn", "accel", "turn_accel", "step", "radius", "goal_tolerance")
-"""The order of the ``limits`` array every controller kernel reads."""
+# Positions in the limits array and in each controller's parameters: literals, which numba compiles
+# in as constants (a kernel's cache is keyed on the runtime's sources alone), in the order of
+# mazegen/controllers.py's LIMITS and rows; tests/runtime/simulation/test_registry.py checks them.
 MAX_SPEED, MIN_SPEED, MAX_TURN, ACCEL, TURN_ACCEL, STEP, RADIUS, GOAL_TOLERANCE = range(8)
+HEADING_GAIN, TURN_IN_PLACE = range(2)
+"""straight's parameters."""
+LOOKAHEAD, MIN_LOOKAHEAD, MAX_LOOKAHEAD, LOOKAHEAD_TIME = range(4)
+MIN_RADIUS, ROTATE_TO_HEADING, REGULATED_MIN_SPEED = range(4, 7)
+"""purepursuit's parameters (its path_margin is read by the drive, not the kernel)."""
 
 
 @njit(cache=True, inline="always")
@@ -33,11 +40,11 @@ def wrap(angle):  # pragma: no cover - compiled
 def straight_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
 ):  # pragma: no cover
-    """Turn toward the goal (proportional gain ``params[0]``) and drive at top speed; turn on the
-    spot while the heading error exceeds ``params[1]``."""
+    """Turn toward the goal (proportional gain ``heading_gain``) and drive at top speed; turn on the
+    spot while the heading error exceeds ``turn_in_place``."""
     error = wrap(math.atan2(goal[1] - pose[1], goal[0] - pose[0]) - pose[2])
-    out[0] = 0.0 if abs(error) > params[1] else limits[MAX_SPEED]
-    out[1] = params[0] * error
+    out[0] = 0.0 if abs(error) > params[TURN_IN_PLACE] else limits[MAX_SPEED]
+    out[1] = params[HEADING_GAIN] * error
 
 
 @njit(cache=True, inline="always")
@@ -88,26 +95,25 @@ def carrot(path, x, y, reach):  # pragma: no cover - compiled
 def purepursuit_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
 ):  # pragma: no cover
-    """nav2's regulated pure pursuit along MazeGen's path.
-
-    ``params``: lookahead, min_lookahead, max_lookahead, lookahead_time, min_radius,
-    rotate_to_heading, regulated_min_speed (see :mod:`mazegen.controllers`).
-    """
+    """nav2's regulated pure pursuit along MazeGen's path."""
     x, y, theta = pose[0], pose[1], pose[2]
     # nav2's velocity-scaled lookahead, or its fixed lookahead_dist when lookahead_time is 0
-    reach = min(max(abs(pose[3]) * params[3], params[1]), params[2]) if params[3] > 0.0 else params[0]
+    reach = params[LOOKAHEAD]
+    if params[LOOKAHEAD_TIME] > 0.0:
+        reach = min(max(abs(pose[3]) * params[LOOKAHEAD_TIME], params[MIN_LOOKAHEAD]), params[MAX_LOOKAHEAD])
     cx, cy = carrot(path, x, y, reach) if path.shape[0] else (goal[0], goal[1])
     c, s = math.cos(theta), math.sin(theta)
     lx = c * (cx - x) + s * (cy - y)
     ly = c * (cy - y) - s * (cx - x)
     d2 = lx * lx + ly * ly
-    if lx < math.cos(params[5]) * math.sqrt(d2):  # the carrot's bearing exceeds it: rotate to heading
+    if lx < math.cos(params[ROTATE_TO_HEADING]) * math.sqrt(d2):  # the carrot's bearing exceeds it
         out[0] = 0.0
         out[1] = math.copysign(limits[MAX_TURN], ly)
         return
     curvature = 2.0 * ly / d2 if d2 > 0.0 else 0.0
     speed = limits[MAX_SPEED]
-    if curvature != 0.0 and 1.0 / abs(curvature) < params[4]:  # regulate: slow down in tight turns
-        speed = max(speed * (1.0 / abs(curvature)) / params[4], min(params[6], speed))
+    if curvature != 0.0 and 1.0 / abs(curvature) < params[MIN_RADIUS]:  # regulate: slow down in tight turns
+        slowest = min(params[REGULATED_MIN_SPEED], speed)
+        speed = max(speed * (1.0 / abs(curvature)) / params[MIN_RADIUS], slowest)
     out[0] = speed
     out[1] = speed * curvature

@@ -1,31 +1,25 @@
 """Drive a controller over floors of a population: one robot per floor, one :class:`Episodes`.
 
-:func:`drive` gathers what the kernels read (the floors' parts, MazeGen's paths and optimal
-times, the robot's limits, the controller's parameters), puts every robot at its start, runs the
-episodes (the compiled loop for a bundled controller, a step kernel between calls of a user's
-policy otherwise) and returns the outcomes. Floors MazeGen finds no path on are not driven.
+:func:`drive` sets the drive up (:func:`mazegen.runtime.simulation._setup.set_up`: every robot at
+its start), runs the episodes to their ends (the compiled loop of a bundled controller, a step
+between calls of a user's policy otherwise) and returns what came of them.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from mazegen.errors import MazeError
+from mazegen.controllers import FIELDS
 from mazegen.runtime.engine.population import Population
-from mazegen.runtime.simulation._choice import FIELDS, Choice, choose, lidar_reach
-from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
+from mazegen.runtime.simulation._episodes import Episodes
 from mazegen.runtime.simulation._fields import floor_fields
-from mazegen.runtime.simulation._lidar import beam_angles
-from mazegen.runtime.simulation._loop import begin_all, controller_slots, run_all
-from mazegen.runtime.simulation._paths import FloorPaths, floor_paths
+from mazegen.runtime.simulation._loop import run_bundled
 from mazegen.runtime.simulation._policy import run_policy
-from mazegen.runtime.simulation._step import CLEARANCE, CX, CY, DISTANCE, Setup, new_state
-from mazegen.runtime.simulation._world import World, world_of
-from mazegen.runtime.threads import in_blocks
+from mazegen.runtime.simulation._setup import set_up
+from mazegen.runtime.simulation._state import DriveState
 from mazegen.spec import ControllerSpec, Robot
 
 
@@ -56,70 +50,23 @@ def drive(
     Raises:
         MazeError: an unknown controller or parameter, or a user's policy that fails.
     """
-    arena = population.arena
-    choice = choose(controller, robot, arena)
-    rows = np.flatnonzero(population.valid) if indices is None else np.asarray(indices, np.int64).reshape(-1)
-    m = len(rows)
-    if m and (rows.min() < 0 or rows.max() >= population.size):
-        raise MazeError(f"indices must lie in [0, {population.size}), got {rows.min()}..{rows.max()}")
-    poses = _starts(population, m, starts)
-    world = world_of(population, rows)
-    paths = floor_paths(population, rows, margin=choice.margin)
-    optimal = paths.length / robot.max_speed
-    max_steps = np.where(
-        np.isnan(optimal), 0, np.ceil(robot.timeout * np.nan_to_num(optimal) / robot.step - 1e-9)
+    state = set_up(
+        population, robot=robot, controller=controller, indices=indices, starts=starts, record=record
     )
-    state, outcome, steps, progress, stuck = new_state(m)
-    outcome[np.isnan(optimal)] = NO_PATH
-    limits = np.array(
-        [
-            robot.max_speed,
-            robot.min_speed,
-            robot.max_turn,
-            robot.accel,
-            robot.turn_accel,
-            robot.step,
-            arena.robot_radius,
-            robot.goal_tolerance,
-        ],
-        np.float64,
-    )
-    goal = np.array(arena.goal, np.float64)
-    angles = beam_angles(robot.beams, robot.fov) if choice.lidar else np.zeros(0)
-    stuck_steps = max(1, math.ceil(robot.stuck / robot.step - 1e-9))
-    run = Setup(
-        limits,
-        goal,
-        world,
-        paths,
-        angles,
-        lidar_reach(choice, robot),
-        max_steps.astype(np.int32),
-        stuck_steps,
-    )
-    trajectory = np.full((m if record else 0, int(max_steps.max(initial=0)) + 1, 3), np.nan)
-    if m:
-        begin_all(poses, limits, goal, world.arrays, state, outcome)
-        arrays = (state, outcome, steps, progress, stuck, trajectory)
-        if choice.policy is None and choice.name in FIELDS:
-            _run_with_fields(population, robot, rows, choice, run, *arrays)
-        elif choice.policy is None:
-            _run_bundled(choice, run, _NO_FIELDS, *arrays)
-        else:
-            run_policy(choice.name, choice.policy, run, rows, *arrays)
-    driven = outcome != NO_PATH
-    return Episodes(
-        controller=choice.name,
-        outcome=outcome,
-        time=steps * robot.step,
-        distance=np.where(driven, state[:, DISTANCE], 0.0),
-        clearance=np.where(driven, state[:, CLEARANCE], np.nan),
-        optimal_time=optimal,
-        steps=steps,
-        collision=np.where((outcome == COLLISION)[:, None], state[:, [CX, CY]], np.nan),
-        stuck=stuck,
-        trajectory=trajectory if record else None,
-    )
+    if len(state.rows):  # (no floors: nothing to compile)
+        _run_to_the_end(state)
+    return state.episodes()
+
+
+def _run_to_the_end(state: DriveState) -> None:
+    """Run every episode of ``state`` to its end, with the loop its controller needs."""
+    choice = state.choice
+    if choice.policy is not None:
+        run_policy(state, choice.policy)
+    elif FIELDS in choice.reads:
+        _run_with_fields(state)
+    else:
+        run_bundled(state, _NO_FIELDS)
 
 
 _NO_FIELDS = (np.full((1, 1, 1), np.inf, np.float32), np.zeros((1, 1, 1), np.float32), np.zeros(5))
@@ -131,52 +78,8 @@ FIELD_CHUNK = 1024
 a floor, so a drive over many floors holds a chunk's, not all of them."""
 
 
-def _run_with_fields(
-    population: Population, robot: Robot, rows: np.ndarray, choice: Choice, run: Setup, *arrays: np.ndarray
-) -> None:
+def _run_with_fields(state: DriveState) -> None:
     """Drive chunk after chunk of floors, each with the fields of its floors."""
-    world = run.world
-    for a in range(0, len(rows), FIELD_CHUNK):
-        b = min(a + FIELD_CHUNK, len(rows))
-        part = Setup(
-            run.limits,
-            run.goal,
-            World(world.first[a : b + 1], world.vertices, world.count, world.box, world.size),
-            FloorPaths(run.paths.length[a:b], run.paths.corners[a:b], run.paths.count[a:b]),
-            run.angles,
-            run.reach,
-            run.max_steps[a:b],
-            run.stuck_steps,
-        )
-        fields = floor_fields(population, robot, rows[a:b])
-        _run_bundled(choice, part, fields, *(array[a:b] if len(array) else array for array in arrays))
-
-
-def _run_bundled(choice: Choice, run: Setup, fields: tuple, *arrays: np.ndarray) -> None:
-    paths, fov = (run.paths.corners, run.paths.count), (run.angles, run.reach)
-    in_blocks(
-        run_all,
-        len(arrays[0]),
-        *controller_slots(choice.code, choice.params),
-        run.world.arrays,
-        run.episode,
-        *paths,
-        fields,
-        *fov,
-        arrays[:5],
-        arrays[5],
-        per_thread=32,  # episodes differ in length: many small blocks even them out
-    )
-
-
-def _starts(population: Population, m: int, starts: np.ndarray | None) -> np.ndarray:
-    arena = population.arena
-    if starts is None:
-        (sx, sy), (gx, gy) = arena.start, arena.goal
-        return np.tile(np.array([sx, sy, math.atan2(gy - sy, gx - sx)]), (m, 1))
-    poses = np.ascontiguousarray(starts, np.float64)
-    if poses.shape != (m, 3) or not np.isfinite(poses).all():
-        raise MazeError(
-            f"starts must be {m} finite (x, y, theta) rows, one per driven floor, got shape {poses.shape}"
-        )
-    return poses
+    for a in range(0, len(state.rows), FIELD_CHUNK):
+        part = state.part(a, min(a + FIELD_CHUNK, len(state.rows)))
+        run_bundled(part, floor_fields(state.population, state.robot, part.rows))

@@ -45,8 +45,10 @@ from mazegen.runtime.simulation._controllers import (
     TURN_ACCEL,
 )
 
-# Parameters, in the order of mazegen/controllers.py's "dwa" entry.
-V_SAMPLES, W_SAMPLES, HORIZON, OBSTACLE, PATH, GOAL, INFLATION, DECAY, RESOLUTION, FORWARD = range(10)
+# Parameters, in the order of dwa's row in mazegen/controllers.py (its path_margin is read by the
+# drive, not the kernel); tests/runtime/simulation/test_registry.py checks them.
+V_SAMPLES, W_SAMPLES, HORIZON, OBSTACLE_WEIGHT, PATH_WEIGHT, GOAL_WEIGHT = range(6)
+INFLATION, DECAY, RESOLUTION, FORWARD = range(6, 10)
 LETHAL = 252.0
 """costmap_2d's cost just outside the inscribed radius, where the inflation decay starts."""
 
@@ -164,14 +166,14 @@ def _score(
     if to_goal == math.inf:
         return math.inf
     resolution = params[RESOLUTION]
-    ends = params[GOAL] * to_goal / resolution
+    ends = params[GOAL_WEIGHT] * to_goal / resolution
     if ends > budget:  # the goal term alone is over budget: skip the path term too
         return math.inf
-    ends += params[PATH] * math.sqrt(_to_path(path, ex, ey, first, last)) / resolution
+    ends += params[PATH_WEIGHT] * math.sqrt(_to_path(path, ex, ey, first, last)) / resolution
     if ends > budget:
         return math.inf
     # Clearance at which the obstacle term alone would spend the rest of the budget: stop there.
-    weight, decay, inflation = params[OBSTACLE], params[DECAY], params[INFLATION]
+    weight, decay, inflation = params[OBSTACLE_WEIGHT], params[DECAY], params[INFLATION]
     stop = limit
     if weight > 0.0 and budget < math.inf:
         spare = (budget - ends) / (weight * LETHAL)

@@ -2,10 +2,10 @@
 
 Floors are independent, so blocks of floors run on threads of their own
 (:func:`mazegen.runtime.threads.in_blocks`) and each robot's episode is the same whatever the
-thread count: a drive is deterministic. A controller is chosen by the argument slot its
-parameters are given in (:data:`CODES`); :func:`command` is the one dispatch point every
-per-robot controller kernel plugs into, all with the signature of
-:mod:`mazegen.runtime.simulation._controllers`.
+thread count: a drive is deterministic. A bundled controller is chosen by the argument slot its
+parameters are given in, the slot of its row's ``code`` (:mod:`mazegen.controllers`);
+:func:`command` is the one dispatch point every per-robot controller kernel plugs into, all with
+the signature of :mod:`mazegen.runtime.simulation._controllers`.
 """
 
 from __future__ import annotations
@@ -13,21 +13,43 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from mazegen.controllers import BUNDLED
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._controllers import purepursuit_command, straight_command
 from mazegen.runtime.simulation._dwa import dwa_command
 from mazegen.runtime.simulation._lidar import scan
-from mazegen.runtime.simulation._step import ACTIVE, X, advance, begin
+from mazegen.runtime.simulation._state import ACTIVE, DriveState, X
+from mazegen.runtime.simulation._step import advance
 from mazegen.runtime.simulation._vfh import vfh_command
+from mazegen.runtime.threads import in_blocks
 
-CODES = {"straight": 0, "purepursuit": 1, "dwa": 2, "vfh": 3}
-"""The slot of each bundled controller's parameters in :func:`command`'s arguments."""
+
+def run_bundled(drive: DriveState, fields: tuple) -> None:
+    """Drive every robot of ``drive`` still driving to the end of its episode with its bundled
+    controller; ``fields`` is ``(nav, clear, grid)``: per-floor fields, or one dummy for all."""
+    setup, robots = drive.setup, drive.robots
+    in_blocks(
+        run_all,
+        len(robots.outcome),
+        *controller_slots(drive.choice.code, drive.choice.params),
+        setup.world.arrays,
+        setup.episode,
+        setup.paths.corners,
+        setup.paths.count,
+        fields,
+        setup.angles,
+        setup.reach,
+        robots.arrays,
+        robots.trajectory,
+        per_thread=32,  # episodes differ in length: many small blocks even them out
+    )
 
 
 def controller_slots(code: int, params: np.ndarray) -> tuple[np.ndarray | None, ...]:
     """:func:`command`'s first arguments for controller ``code``: its parameters in its slot, None in
     the others. numba compiles the kernels once per combination of array and None, leaving out the
     branches of the None ones: a drive compiles only the controller it drives."""
-    return tuple(params if slot == code else None for slot in range(len(CODES)))
+    return tuple(params if slot == code else None for slot in range(len(BUNDLED)))
 
 
 @njit(cache=True)
@@ -35,7 +57,8 @@ def command(
     straight, purepursuit, dwa, vfh, limits, pose, goal, nav, clear, grid, path, ranges, angles, out
 ):  # pragma: no cover
     """The command of the controller whose parameters are given (the others None) for one robot,
-    written to ``out``: THE dispatch point."""
+    written to ``out``: THE dispatch point, one slot per bundled controller in the order of their
+    codes (a test checks it against the rows)."""
     if straight is not None:
         straight_command(straight, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     elif purepursuit is not None:
@@ -49,15 +72,7 @@ def command(
         out[1] = 0.0
 
 
-@njit(cache=True)
-def begin_all(starts, limits, goal, world, state, outcome):  # pragma: no cover - compiled
-    """Put every robot still to drive (outcome ``ACTIVE``) at its start."""
-    for m in range(starts.shape[0]):
-        if outcome[m] == ACTIVE:
-            begin(m, starts[m, 0], starts[m, 1], starts[m, 2], limits, goal, world, state, outcome)
-
-
-@njit(cache=True)
+@inner_kernel
 def _record(trajectory, m, step, state):  # pragma: no cover - compiled
     if trajectory.shape[0]:
         for k in range(3):

@@ -1,101 +1,38 @@
 """A user's batch policy in the loop: one Python call per step for every robot still driving.
 
-Between calls, two compiled kernels run over the active robots: one gathers the
-:class:`Observations` (lidar, goal in the robot frame, velocity), the other applies the returned
-actions through the same step as the bundled controllers
-(:func:`mazegen.runtime.simulation._step.advance`). A policy that raises (or exits), returns the
-wrong shape, numbers that are not real, or a non-finite action ends the drive with one line naming
-the controller, the step and the floor.
+Between calls, compiled kernels run over the robots still driving: one gathers their
+:class:`~mazegen.runtime.simulation._observe.Observations` (lidar, goal in the robot frame,
+velocity), the other steps them by the returned actions through the same step as the bundled
+controllers (:func:`mazegen.runtime.simulation._step.step`). A policy that raises (or exits),
+returns the wrong shape, numbers that are not real, or a non-finite action ends the drive with one
+line naming the controller, the step and the floor.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import njit
 
 from mazegen.errors import MazeError
-from mazegen.runtime.simulation._lidar import scan
-from mazegen.runtime.simulation._step import ACTIVE, THETA, Setup, V, W, X, Y, advance
-from mazegen.runtime.threads import in_blocks
+from mazegen.runtime.simulation._observe import Observations, observe
+from mazegen.runtime.simulation._state import ACTIVE, DriveState
+from mazegen.runtime.simulation._step import record, step
 
 
-@dataclass(frozen=True)
-class Observations:
-    """What a batch policy sees at one step, one row per robot still driving (``n`` of them).
-
-    Attributes:
-        scan: ``float64[n, beams]`` lidar ranges (arena units), each at most the lidar's range.
-        angles: ``float64[beams]`` the beams' angles relative to the heading (radians).
-        goal: ``float64[n, 3]`` the goal in the robot's frame: distance, and the cosine and sine of
-            its bearing (0 straight ahead, positive to the left).
-        velocity: ``float64[n, 2]`` the current speed and turn rate ``(v, w)``.
-        step: Steps driven so far (0 at the first call); every robot shown has driven as many.
-        floor: ``int64[n]`` the population indices of the floors the robots drive on.
-        limits: ``float64[8]`` the robot's max_speed, min_speed, max_turn, accel, turn_accel, step,
-            radius and goal_tolerance (arena units, seconds, radians).
-    """
-
-    scan: np.ndarray
-    angles: np.ndarray
-    goal: np.ndarray
-    velocity: np.ndarray
-    step: int
-    floor: np.ndarray
-    limits: np.ndarray
-
-
-def run_policy(
-    name: str,
-    policy: Callable[[Observations], Any],
-    run: Setup,
-    rows: np.ndarray,
-    state: np.ndarray,
-    outcome: np.ndarray,
-    steps: np.ndarray,
-    progress: np.ndarray,
-    stuck: np.ndarray,
-    trajectory: np.ndarray,
-) -> None:
-    """Drive every active robot to the end of its episode with ``policy``, one call per step."""
-    most = int(np.diff(run.world.first).max(initial=0))
-    active = np.flatnonzero(outcome == ACTIVE)
-    _record(active, 0, state, trajectory)
-    step = 0
+def run_policy(drive: DriveState, policy: Callable[[Observations], Any]) -> None:
+    """Drive every robot of ``drive`` still driving to the end of its episode with ``policy``, its
+    controller, one call per step."""
+    name = drive.choice.name
+    active = drive.active()
+    record(drive, active)
+    steps = 0
     while active.size:
-        observations = _observe(run, rows, active, state, step, most)
-        actions = _actions(name, policy, observations, step)
-        robots = (state, outcome, steps, progress, stuck)
-        in_blocks(_apply, active.size, active, actions, run.world.arrays, run.episode, robots)
-        step += 1
-        _record(active, step, state, trajectory)
-        active = active[outcome[active] == ACTIVE]
-
-
-def _observe(
-    run: Setup, rows: np.ndarray, active: np.ndarray, state: np.ndarray, step: int, most: int
-) -> Observations:
-    n = active.size
-    ranges = np.empty((n, run.angles.size))
-    goal = np.empty((n, 3))
-    lidar = (run.angles, run.reach, run.world.arrays, most)
-    in_blocks(_observe_kernel, n, active, state, run.goal, *lidar, ranges, goal)
-    velocity = state[active][:, [V, W]]
-    return Observations(
-        ranges, _read_only(run.angles), goal, velocity, step, rows[active], _read_only(run.limits)
-    )
-
-
-def _read_only(array: np.ndarray) -> np.ndarray:
-    """A read-only copy of an array the simulator reads: a policy that writes into it is told so,
-    and whatever it does to the copy never reaches the episodes."""
-    copy = array.copy()
-    copy.flags.writeable = False
-    return copy
+        actions = _actions(name, policy, observe(drive, active, steps), steps)
+        step(drive, active, actions)
+        steps += 1
+        active = active[drive.robots.outcome[active] == ACTIVE]
 
 
 def _actions(
@@ -128,31 +65,3 @@ def _actions(
             f"{where} on floor {observations.floor[bad[0]]}: returned a non-finite action {actions[bad[0]]}"
         )
     return np.ascontiguousarray(actions)
-
-
-def _record(active: np.ndarray, step: int, state: np.ndarray, trajectory: np.ndarray) -> None:
-    if trajectory.shape[0] and active.size:
-        trajectory[active, step] = state[active][:, [X, Y, THETA]]
-
-
-@njit(cache=True, nogil=True)
-def _observe_kernel(
-    first, last, active, state, goal, angles, reach, world, most, ranges, to_goal
-):  # pragma: no cover - compiled
-    near = np.empty(most, np.int64)
-    for j in range(first, last):
-        m = active[j]
-        x, y, theta = state[m, X], state[m, Y], state[m, THETA]
-        if angles.shape[0]:
-            scan(x, y, theta, angles, reach, m, world, near, ranges[j])
-        dx, dy = goal[0] - x, goal[1] - y
-        bearing = math.atan2(dy, dx) - theta
-        to_goal[j, 0] = math.hypot(dx, dy)
-        to_goal[j, 1] = math.cos(bearing)
-        to_goal[j, 2] = math.sin(bearing)
-
-
-@njit(cache=True, nogil=True)
-def _apply(first, last, active, actions, world, episode, robots):  # pragma: no cover - compiled
-    for j in range(first, last):
-        advance(active[j], actions[j, 0], actions[j, 1], world, episode, robots)

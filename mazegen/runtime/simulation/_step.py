@@ -19,16 +19,21 @@ count, the step of its last progress toward the goal and whether it ended stuck.
 
 The clearance (closest approach of the robot's edge) is taken at every pose, computed exactly
 whenever the lower bound cannot rule out a new minimum.
+
+:func:`advance` is the one step every way of driving shares: the compiled episode loop of a
+bundled controller (:mod:`mazegen.runtime.simulation._loop`) calls it after each command, and
+:func:`step` calls it for every robot at once with the commands a caller decided between steps (a
+user's policy, :mod:`mazegen.runtime.simulation._policy`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._collide import NO_HIT, disc_entry, distance, sweep
 from mazegen.runtime.simulation._controllers import (
     ACCEL,
@@ -41,58 +46,61 @@ from mazegen.runtime.simulation._controllers import (
     TURN_ACCEL,
 )
 from mazegen.runtime.simulation._episodes import ARRIVED, COLLISION, TIMEOUT
-from mazegen.runtime.simulation._paths import FloorPaths
-from mazegen.runtime.simulation._world import World
+from mazegen.runtime.simulation._state import (
+    ACTIVE,
+    BEST,
+    CLEARANCE,
+    CX,
+    CY,
+    DISTANCE,
+    SAFE,
+    THETA,
+    DriveState,
+    V,
+    W,
+    X,
+    Y,
+)
+from mazegen.runtime.threads import in_blocks
 
-ACTIVE = -1
-"""The outcome of an episode still running."""
-
-X, Y, THETA, V, W, DISTANCE, CLEARANCE, SAFE, BEST, CX, CY = range(11)
-"""Columns of the state: pose, velocity, distance driven, closest approach so far, the lower bound
-of the distance to obstacles, best distance to the goal so far, contact centre."""
-COLUMNS = 11
 LOOKOUT = 8
 """Steps at top speed beyond the closest approach so far that distances are searched to."""
 PROGRESS = 0.01
 """Progress is a new best distance to the goal by at least this fraction of a step at top speed:
 creeping ever closer by less does not hold off the stuck timeout."""
-"""Steps at top speed beyond the closest approach so far that distances are searched to."""
 
 
-def new_state(m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``(state, outcome, steps, progress, stuck)`` of ``m`` robots, none started."""
-    state = np.full((m, COLUMNS), np.nan)
-    return (
-        state,
-        np.full(m, ACTIVE, np.int8),
-        np.zeros(m, np.int32),
-        np.zeros(m, np.int32),
-        np.zeros(m, np.bool_),
-    )
+def step(drive: DriveState, active: np.ndarray, actions: np.ndarray) -> None:
+    """Step robots ``active`` (still driving) of ``drive`` once, each by its row of ``actions``
+    (``float64[len(active), 2]``, ``(v, w)``), and record their poses when poses are kept: the step
+    of a caller that decides every robot's command between steps (a user's policy)."""
+    setup = drive.setup
+    in_blocks(_apply, active.size, active, actions, setup.world.arrays, setup.episode, drive.robots.arrays)
+    record(drive, active)
 
 
-@dataclass(frozen=True)
-class Setup:
-    """What every episode of one drive reads: the robot's limits (in the order of
-    :data:`mazegen.runtime.simulation._controllers.LIMITS`), the goal, the floors' parts and paths,
-    the lidar's beam angles and range, the step limits."""
+def record(drive: DriveState, active: np.ndarray) -> None:
+    """Keep the poses of robots ``active`` at the steps they have driven, when poses are kept."""
+    robots = drive.robots
+    if robots.trajectory.shape[0] and active.size:
+        robots.trajectory[active, robots.steps[active]] = robots.state[active][:, [X, Y, THETA]]
 
-    limits: np.ndarray
-    goal: np.ndarray
-    world: World
-    paths: FloorPaths
-    angles: np.ndarray
-    reach: float
-    max_steps: np.ndarray
-    stuck_steps: int
 
-    @property
-    def episode(self) -> tuple:
-        """``(limits, goal, max_steps, stuck_steps)``: what the step kernel reads besides the parts."""
-        return self.limits, self.goal, self.max_steps, self.stuck_steps
+@njit(cache=True, nogil=True)
+def _apply(first, last, active, actions, world, episode, robots):  # pragma: no cover - compiled
+    for j in range(first, last):
+        advance(active[j], actions[j, 0], actions[j, 1], world, episode, robots)
 
 
 @njit(cache=True)
+def begin_all(starts, limits, goal, world, state, outcome):  # pragma: no cover - compiled
+    """Put every robot still to drive (outcome ``ACTIVE``) at its start."""
+    for m in range(starts.shape[0]):
+        if outcome[m] == ACTIVE:
+            begin(m, starts[m, 0], starts[m, 1], starts[m, 2], limits, goal, world, state, outcome)
+
+
+@inner_kernel
 def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no cover - compiled
     """Put robot ``m`` at its start, at rest; a start touching an obstacle is a collision and a
     start within the goal tolerance an arrival, both after 0 steps."""

@@ -29,7 +29,8 @@ from numba import njit
 from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._controllers import MAX_SPEED, MAX_TURN, RADIUS, wrap
 
-# Parameters, in the order of mazegen/controllers.py's "vfh" entry.
+# Parameters, in the order of vfh's row in mazegen/controllers.py; tests/runtime/simulation/test_registry.py
+# checks them.
 SECTORS, THRESHOLD, SAFETY, WINDOW, WIDE, HEADING_GAIN = range(6)
 
 

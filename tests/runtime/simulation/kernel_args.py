@@ -8,18 +8,14 @@ import numpy as np
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.simulation import Episodes, drive
 from mazegen.runtime.simulation._choice import bundled_params
+from mazegen.runtime.simulation._state import robot_limits
 from mazegen.runtime.threads import CORES, threads
 from mazegen.spec import robot_for
 from tests.runtime.floors import ARENA
 
 ROBOT = robot_for(ARENA)
-LIMITS = np.array(
-    [
-        *(ROBOT.max_speed, ROBOT.min_speed, ROBOT.max_turn, ROBOT.accel, ROBOT.turn_accel, ROBOT.step),
-        *(ARENA.robot_radius, ROBOT.goal_tolerance),
-    ]
-)
-"""The ``limits`` array of the kernels, in the loop's order."""
+LIMITS = robot_limits(ROBOT, ARENA)
+"""The ``limits`` array of the kernels."""
 
 
 def params_of(name: str) -> np.ndarray:

@@ -4,10 +4,12 @@ where the answer is known, and whole drives: it arrives in the open and fails be
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
+from mazegen.controllers import BUNDLED
 from mazegen.runtime.simulation import _choice, drive
 from mazegen.runtime.simulation._episodes import ARRIVED, NO_PATH
 from mazegen.runtime.simulation._lidar import beam_angles
@@ -134,9 +136,10 @@ def test_vfh_drives_alike_with_its_lidar_cast_only_as_far_as_its_window(monkeypa
     # vfh ignores readings beyond its window, so the lidar is cast no farther: same commands.
     rng = np.random.default_rng(3)
     pop = population(ARENA, [[], *random_floors(rng, 7, ARENA)])
-    assert _choice.lidar_reach(_choice.choose("vfh", ROBOT, ARENA), ROBOT) == PARAMS[3] < ROBOT.lidar_range
+    assert _choice.choose("vfh", ROBOT, ARENA).reach == PARAMS[3] < ROBOT.lidar_range
     short = drive(pop, robot=ROBOT, controller="vfh", record=True)
-    monkeypatch.setattr(_choice, "WINDOWS", {})
+    monkeypatch.setitem(BUNDLED, "vfh", replace(BUNDLED["vfh"], window=None))
+    assert _choice.choose("vfh", ROBOT, ARENA).reach == ROBOT.lidar_range
     full = drive(pop, robot=ROBOT, controller="vfh", record=True)
     assert (full.outcome != NO_PATH).sum() >= 3
     assert short.trajectory.tobytes() == full.trajectory.tobytes()

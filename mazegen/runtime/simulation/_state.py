@@ -1,0 +1,166 @@
+"""A drive's state: what its episodes read (:class:`Setup`) and write (:class:`Robots`), one row
+per driven floor, gathered in a :class:`DriveState`.
+
+:func:`mazegen.runtime.simulation._setup.set_up` makes one; the step kernel
+(:func:`mazegen.runtime.simulation._step.advance`) moves it on, a whole episode at a time in the
+compiled loop of a bundled controller, or one step of every robot at a time between calls of a
+user's policy; :meth:`DriveState.episodes` reads what came of it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mazegen.controllers import LIMITS
+from mazegen.runtime.engine.population import Population
+from mazegen.runtime.simulation._choice import Choice
+from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
+from mazegen.runtime.simulation._paths import FloorPaths
+from mazegen.runtime.simulation._world import World
+from mazegen.spec import Arena, Robot
+
+ACTIVE = -1
+"""The outcome of an episode still running."""
+
+X, Y, THETA, V, W, DISTANCE, CLEARANCE, SAFE, BEST, CX, CY = range(11)
+"""Columns of a robot's state: pose, velocity, distance driven, closest approach so far, the lower
+bound of the distance to obstacles, best distance to the goal so far, contact centre."""
+COLUMNS = 11
+
+
+def robot_limits(robot: Robot, arena: Arena) -> np.ndarray:
+    """``float64[8]``: ``robot``'s limits in the order of :data:`mazegen.controllers.LIMITS`."""
+    values = {
+        "max_speed": robot.max_speed,
+        "min_speed": robot.min_speed,
+        "max_turn": robot.max_turn,
+        "accel": robot.accel,
+        "turn_accel": robot.turn_accel,
+        "step": robot.step,
+        "radius": arena.robot_radius,
+        "goal_tolerance": robot.goal_tolerance,
+    }
+    return np.array([values[name] for name in LIMITS], np.float64)
+
+
+@dataclass(frozen=True)
+class Setup:
+    """What every episode of one drive reads: the robot's limits (:func:`robot_limits`), the goal,
+    the floors' parts and paths, the lidar's beam angles and range, the step limits."""
+
+    limits: np.ndarray
+    goal: np.ndarray
+    world: World
+    paths: FloorPaths
+    angles: np.ndarray
+    reach: float
+    max_steps: np.ndarray
+    stuck_steps: int
+
+    @property
+    def episode(self) -> tuple:
+        """``(limits, goal, max_steps, stuck_steps)``: what the step kernel reads besides the parts."""
+        return self.limits, self.goal, self.max_steps, self.stuck_steps
+
+    def part(self, a: int, b: int) -> Setup:
+        """What the episodes of driven floors ``a`` to ``b - 1`` read."""
+        world, paths = self.world, self.paths
+        return Setup(
+            self.limits,
+            self.goal,
+            World(world.first[a : b + 1], world.vertices, world.count, world.box, world.size),
+            FloorPaths(paths.length[a:b], paths.corners[a:b], paths.count[a:b]),
+            self.angles,
+            self.reach,
+            self.max_steps[a:b],
+            self.stuck_steps,
+        )
+
+
+@dataclass(frozen=True)
+class Robots:
+    """What the episodes write, one row per driven floor: the state (columns :data:`X` … :data:`CY`),
+    the outcome (:data:`ACTIVE` while driving), the steps driven, the step of the last progress
+    toward the goal, whether the episode ended stuck, and the poses (no rows unless recorded)."""
+
+    state: np.ndarray
+    outcome: np.ndarray
+    steps: np.ndarray
+    progress: np.ndarray
+    stuck: np.ndarray
+    trajectory: np.ndarray
+
+    @classmethod
+    def new(cls, m: int, recorded_steps: int | None) -> Robots:
+        """``m`` robots, none started; poses kept for up to ``recorded_steps`` steps (None: not kept)."""
+        rows, columns = (0, 1) if recorded_steps is None else (m, recorded_steps + 1)
+        return cls(
+            np.full((m, COLUMNS), np.nan),
+            np.full(m, ACTIVE, np.int8),
+            np.zeros(m, np.int32),
+            np.zeros(m, np.int32),
+            np.zeros(m, np.bool_),
+            np.full((rows, columns, 3), np.nan),
+        )
+
+    @property
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(state, outcome, steps, progress, stuck)``: what the step kernel writes."""
+        return self.state, self.outcome, self.steps, self.progress, self.stuck
+
+    def part(self, a: int, b: int) -> Robots:
+        """Views of robots ``a`` to ``b - 1``."""
+        state, outcome, steps, progress, stuck = (array[a:b] for array in self.arrays)
+        trajectory = self.trajectory[a:b] if len(self.trajectory) else self.trajectory
+        return Robots(state, outcome, steps, progress, stuck, trajectory)
+
+
+@dataclass(frozen=True)
+class DriveState:
+    """One drive: its floors (``rows`` of ``population``), robot and controller, what its episodes
+    read and what they have written so far."""
+
+    population: Population
+    rows: np.ndarray
+    robot: Robot
+    choice: Choice
+    optimal: np.ndarray
+    setup: Setup
+    robots: Robots
+    record: bool
+
+    def part(self, a: int, b: int) -> DriveState:
+        """The drive of floors ``a`` to ``b - 1`` alone, sharing this one's arrays."""
+        return DriveState(
+            self.population,
+            self.rows[a:b],
+            self.robot,
+            self.choice,
+            self.optimal[a:b],
+            self.setup.part(a, b),
+            self.robots.part(a, b),
+            self.record,
+        )
+
+    def active(self) -> np.ndarray:
+        """The robots still driving."""
+        return np.flatnonzero(self.robots.outcome == ACTIVE)
+
+    def episodes(self) -> Episodes:
+        """What came of the drive so far."""
+        state, outcome = self.robots.state, self.robots.outcome
+        driven = outcome != NO_PATH
+        return Episodes(
+            controller=self.choice.name,
+            outcome=outcome,
+            time=self.robots.steps * self.robot.step,
+            distance=np.where(driven, state[:, DISTANCE], 0.0),
+            clearance=np.where(driven, state[:, CLEARANCE], np.nan),
+            optimal_time=self.optimal,
+            steps=self.robots.steps,
+            collision=np.where((outcome == COLLISION)[:, None], state[:, [CX, CY]], np.nan),
+            stuck=self.robots.stuck,
+            trajectory=self.robots.trajectory if self.record else None,
+        )

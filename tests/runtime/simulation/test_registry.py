@@ -1,0 +1,121 @@
+"""The bundled controllers' rows (mazegen/controllers.py) against the kernels: each kernel reads its
+parameters and the robot's limits at the positions the row and LIMITS give, reads what the row says,
+and the episode loop gives each controller the slot of its code; the limits arrays follow LIMITS."""
+
+from __future__ import annotations
+
+import ast
+import importlib
+import inspect
+import textwrap
+from types import ModuleType
+
+import numpy as np
+import pytest
+
+from mazegen.controllers import BUNDLED, FIELDS, LIDAR, LIMITS, PATH, BundledController
+from mazegen.runtime.simulation import _controllers, _loop, drive
+from mazegen.runtime.simulation._state import robot_limits
+from mazegen.spec import Arena, robot_for
+from tests.runtime.floors import population
+
+ROWS = sorted(BUNDLED.values(), key=lambda row: row.code)
+READS = {LIDAR: {"scan", "angles"}, PATH: {"path"}, FIELDS: {"nav", "clear", "grid"}}
+"""What each kind of input is called among a controller kernel's arguments."""
+
+
+def _kernel(row: BundledController) -> tuple[ModuleType, dict[str, ast.FunctionDef], str]:
+    """The module of ``row``'s kernel, its functions' definitions, and the kernel's name."""
+    module_name, function = row.kernel.split(".")
+    module = importlib.import_module(f"mazegen.runtime.simulation.{module_name}")
+    tree = ast.parse(inspect.getsource(module))
+    return module, {node.name: node for node in tree.body if isinstance(node, ast.FunctionDef)}, function
+
+
+def _subscripts(row: BundledController, array: str) -> set[str]:
+    """Every index ``row``'s kernel reads ``array`` at, in its body and in the functions of its module
+    it hands ``array`` to."""
+    _, functions, kernel = _kernel(row)
+    found: set[str] = set()
+    todo, seen = [kernel], {kernel}
+    while todo:
+        for node in ast.walk(functions[todo.pop()]):
+            if isinstance(node, ast.Subscript) and _is_name(node.value, array):
+                found.add(ast.unparse(node.slice))
+            elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+                callee = node.func.id
+                if callee in functions and callee not in seen and any(_is_name(a, array) for a in node.args):
+                    todo.append(callee)
+                    seen.add(callee)
+    return found
+
+
+def _is_name(node: ast.expr, name: str) -> bool:
+    return isinstance(node, ast.Name) and node.id == name
+
+
+def test_the_rows_codes_number_the_controllers_from_zero():
+    assert [row.code for row in ROWS] == list(range(len(BUNDLED)))
+    assert all(name == row.name for name, row in BUNDLED.items())
+
+
+@pytest.mark.parametrize("row", ROWS, ids=lambda row: row.name)
+def test_each_kernel_reads_its_parameters_where_its_row_puts_them(row):
+    module, _, _ = _kernel(row)
+    read = _subscripts(row, "params")
+    names = [p.name for p in row.parameters]
+    assert {index.lower() for index in read} <= set(names)  # by named constants, never a bare number
+    for index in read:
+        assert getattr(module, index) == row.index(index.lower()), index
+    # every parameter is read: by the kernel, or by the drive (the path's margin)
+    assert {index.lower() for index in read} | {row.margin} - {None} == set(names)
+
+
+@pytest.mark.parametrize("row", ROWS, ids=lambda row: row.name)
+def test_each_kernel_reads_the_limits_and_inputs_its_row_names(row):
+    module, functions, kernel = _kernel(row)
+    read = _subscripts(row, "limits")
+    assert {index.lower() for index in read} == set(row.limits)
+    for index in read:
+        assert getattr(module, index) == LIMITS.index(index.lower()), index
+    used = {node.id for node in ast.walk(functions[kernel]) if isinstance(node, ast.Name)}
+    assert {kind for kind, arguments in READS.items() if arguments & used} == row.reads
+
+
+def test_the_limits_constants_follow_limits():
+    for index, name in enumerate(LIMITS):
+        assert getattr(_controllers, name.upper()) == index
+
+
+def test_the_episode_loop_gives_each_controller_the_slot_of_its_code():
+    command = ast.parse(textwrap.dedent(inspect.getsource(_loop.command.py_func))).body[0]
+    assert isinstance(command, ast.FunctionDef)
+    assert [a.arg for a in command.args.args[: len(ROWS)]] == [row.name for row in ROWS]
+    branch: ast.stmt = command.body[1]  # after the docstring: if slot 0 … elif slot 1 …
+    for row in ROWS:
+        assert isinstance(branch, ast.If) and ast.unparse(branch.test) == f"{row.name} is not None"
+        call = branch.body[0]
+        assert isinstance(call, ast.Expr) and isinstance(call.value, ast.Call)
+        module, _, kernel = _kernel(row)
+        assert ast.unparse(call.value.func) == kernel and getattr(_loop, kernel) is getattr(module, kernel)
+        branch = branch.orelse[0]
+    params = np.zeros(3)
+    for row in ROWS:
+        slots = _loop.controller_slots(row.code, params)
+        assert [slot is params for slot in slots] == [other is row for other in ROWS]
+
+
+def test_limits_arrays_are_built_in_limits_order():
+    arena = Arena("limits", 1000, 600, "cm", (100, 100), (900, 500), 17, 10)
+    changes = {"max_speed": 11, "min_speed": 2, "max_turn": 3, "accel": 40, "turn_accel": 50, "step": 0.25}
+    robot = robot_for(arena, goal_tolerance=30, **changes)
+    expected = changes | {"radius": 17, "goal_tolerance": 30}
+    assert dict(zip(LIMITS, robot_limits(robot, arena), strict=True)) == expected
+    seen = []
+
+    def stand_still(observations):
+        seen.append(observations.limits)
+        return np.zeros((observations.floor.size, 2))
+
+    drive(population(arena, [[]]), robot=robot, controller=stand_still)
+    assert dict(zip(LIMITS, seen[0], strict=True)) == expected  # what a policy is shown
