@@ -32,6 +32,7 @@ from irsim_rows import COLUMNS as IRSIM_COLUMNS
 from irsim_rows import irsim_rows
 from kernels import evolved_sample, load_problem
 
+from mazegen.controllers import BY_CODE
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.simulation import NO_PATH, OUTCOMES, drive
 from mazegen.runtime.threads import thread_count, threads
@@ -42,8 +43,8 @@ QUICK_FLOORS = 2_000
 REPEATS = 3
 TARGETS = {"straight": 20_000.0, "purepursuit": 20_000.0, "dwa": 500.0, "vfh": 200.0}
 """Episodes per second each controller should reach with all threads (the issue's targets)."""
-CONTROLLERS = ("straight", "purepursuit", "dwa", "vfh")
-"""Measured unless ``--controllers`` says otherwise; any bundled controller may be named."""
+CONTROLLERS = tuple(row.name for row in BY_CODE)
+"""Measured unless ``--controllers`` says otherwise: every bundled controller, in the order of their codes."""
 
 COLUMNS = [
     ("threads", "threads", "d"),

@@ -29,8 +29,10 @@ from pathlib import Path
 
 from common import BENCHMARKS, ROOT, markdown_table, median_seconds, write_csv
 
+from mazegen.controllers import BY_CODE
+
 FACTORY = str(ROOT / "examples" / "factory.maze")
-CONTROLLERS = ("straight", "purepursuit", "dwa", "vfh")
+CONTROLLERS = tuple(row.name for row in BY_CODE)
 GOALS = {
     "check": 1.0,
     "run (warm cache)": 2.0,

@@ -331,3 +331,6 @@ BUNDLED: dict[str, BundledController] = {
     ),
 }
 """The bundled controllers by name."""
+
+BY_CODE = tuple(sorted(BUNDLED.values(), key=lambda row: row.code))
+"""The rows in the order of their codes: the episode loop's slots."""

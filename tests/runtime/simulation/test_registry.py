@@ -13,13 +13,13 @@ from types import ModuleType
 import numpy as np
 import pytest
 
-from mazegen.controllers import BUNDLED, FIELDS, LIDAR, LIMITS, PATH, BundledController
+from mazegen.controllers import BUNDLED, BY_CODE, FIELDS, LIDAR, LIMITS, PATH, BundledController
 from mazegen.runtime.simulation import _controllers, _loop, drive
 from mazegen.runtime.simulation._state import robot_limits
 from mazegen.spec import Arena, robot_for
 from tests.runtime.floors import population
 
-ROWS = sorted(BUNDLED.values(), key=lambda row: row.code)
+ROWS = BY_CODE
 READS = {LIDAR: {"scan", "angles"}, PATH: {"path"}, FIELDS: {"nav", "clear", "grid"}}
 """What each kind of input is called among a controller kernel's arguments."""
 
