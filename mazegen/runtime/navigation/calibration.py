@@ -111,7 +111,9 @@ def held_out_r_squared(score: np.ndarray, target: np.ndarray, fold: np.ndarray) 
 
 
 TARGET_CONTROLLERS = ("straight", "dwa", "purepursuit", "vfh")
-"""The controllers whose mean measured difficulty version 2 of the score is fitted to."""
+"""The controllers whose mean measured difficulty version 2 of the score is fitted to: the columns
+of the saved calibration data, so a bundled controller added later joins only when the score is
+refitted (``benchmarks/calibration.py``)."""
 
 
 def measured_target(data: list[dict[str, float | str]], controllers: tuple[str, ...]) -> np.ndarray:

@@ -20,7 +20,7 @@ if TYPE_CHECKING:
         Episodes,
         barn_score,
     )
-    from mazegen.runtime.simulation._observe import Observations
+    from mazegen.runtime.simulation._policy import Observations
 
 __all__ = [
     "ARRIVED",
@@ -39,6 +39,6 @@ __getattr__ = lazy_names(
     {
         "_episodes": ["ARRIVED", "COLLISION", "NO_PATH", "OUTCOMES", "TIMEOUT", "Episodes", "barn_score"],
         "_drive": ["drive"],
-        "_observe": ["Observations"],
+        "_policy": ["Observations"],
     },
 )

@@ -1,7 +1,7 @@
 """A drive's state: what its episodes read (:class:`Setup`) and write (:class:`Robots`), one row
 per driven floor, gathered in a :class:`DriveState`.
 
-:func:`mazegen.runtime.simulation._setup.set_up` makes one; the step kernel
+:func:`mazegen.runtime.simulation._drive.set_up` makes one; the step kernel
 (:func:`mazegen.runtime.simulation._step.advance`) moves it on, a whole episode at a time in the
 compiled loop of a bundled controller, or one step of every robot at a time between calls of a
 user's policy; :meth:`DriveState.episodes` reads what came of it.

@@ -88,9 +88,10 @@ def test_the_limits_constants_follow_limits():
 
 
 def test_the_episode_loop_gives_each_controller_the_slot_of_its_code():
-    command = ast.parse(textwrap.dedent(inspect.getsource(_loop.command.py_func))).body[0]
-    assert isinstance(command, ast.FunctionDef)
-    assert [a.arg for a in command.args.args[: len(ROWS)]] == [row.name for row in ROWS]
+    command, run_all = (_definition(kernel.py_func) for kernel in (_loop.command, _loop.run_all))
+    names = [row.name for row in ROWS]
+    assert [a.arg for a in command.args.args[: len(ROWS)]] == names
+    assert [a.arg for a in run_all.args.args[2 : 2 + len(ROWS)]] == names  # after (first, last)
     branch: ast.stmt = command.body[1]  # after the docstring: if slot 0 … elif slot 1 …
     for row in ROWS:
         assert isinstance(branch, ast.If) and ast.unparse(branch.test) == f"{row.name} is not None"
@@ -103,6 +104,12 @@ def test_the_episode_loop_gives_each_controller_the_slot_of_its_code():
     for row in ROWS:
         slots = _loop.controller_slots(row.code, params)
         assert [slot is params for slot in slots] == [other is row for other in ROWS]
+
+
+def _definition(function) -> ast.FunctionDef:
+    definition = ast.parse(textwrap.dedent(inspect.getsource(function))).body[0]
+    assert isinstance(definition, ast.FunctionDef)
+    return definition
 
 
 def test_limits_arrays_are_built_in_limits_order():
