@@ -67,10 +67,10 @@ def run_policy(drive: DriveState, policy: Callable[[Observations], Any]) -> None
 
 
 def _actions(
-    name: str, policy: Callable[[Observations], Any], observations: Observations, step: int
+    name: str, policy: Callable[[Observations], Any], observations: Observations, driven: int
 ) -> np.ndarray:
     n = observations.floor.size
-    where = f"controller {name} at step {step}"
+    where = f"controller {name} at step {driven}"
     try:
         returned = np.asarray(policy(observations))
     except (Exception, SystemExit) as error:  # the user's code: any failure is theirs, said in one line
