@@ -1,6 +1,6 @@
 """Scenarios in the formats navigation is tested in, one module per format.
 
-Every format is a function of a :class:`~mazegen.runtime.exporters.floor.Floor` and
+Every format is a function of a :class:`~mazegen.runtime.documents.floor.Floor` and
 the :class:`~mazegen.runtime.exporters.floor.ExportOptions` that returns the files
 it makes, by name; the same scenario always gives the same bytes.
 See ``docs/exports.md``.
@@ -11,15 +11,16 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from mazegen.errors import MazeError
+from mazegen.runtime.documents.floor import Floor
 from mazegen.runtime.documents.scenario import dumps
-from mazegen.runtime.exporters.floor import ExportOptions, Floor
+from mazegen.runtime.exporters.floor import ExportOptions, file_stem
 from mazegen.runtime.exporters.gazebo import gazebo_files
 from mazegen.runtime.exporters.irsim import irsim_files
 from mazegen.runtime.exporters.movingai import movingai_files
 from mazegen.runtime.exporters.ros import ros_files
 from mazegen.runtime.reports.render import scenario_png, scenario_svg
 
-__all__ = ["FORMATS", "ExportOptions", "Files", "Floor"]
+__all__ = ["FORMATS", "ExportOptions", "Files"]
 
 Files = dict[str, bytes]
 """Exported files: name (``best-01.pgm``) to content."""
@@ -27,18 +28,18 @@ Files = dict[str, bytes]
 
 def json_files(floor: Floor, options: ExportOptions) -> Files:
     """``NAME.json``: the scenario document, MazeGen's canonical format."""
-    name = f"{floor.name}.json"
+    name = f"{file_stem(floor)}.json"
     return {name: dumps(floor.document, name).encode("utf-8")}
 
 
 def svg_files(floor: Floor, options: ExportOptions) -> Files:
     """``NAME.svg``: the drawing of the scenario."""
-    return {f"{floor.name}.svg": scenario_svg(floor.document).encode("utf-8")}
+    return {f"{file_stem(floor)}.svg": scenario_svg(floor.document).encode("utf-8")}
 
 
 def png_files(floor: Floor, options: ExportOptions) -> Files:
     """``NAME.png``: the drawing of the scenario."""
-    return {f"{floor.name}.png": scenario_png(floor.document)}
+    return {f"{file_stem(floor)}.png": scenario_png(floor.document)}
 
 
 FORMATS: dict[str, Callable[[Floor, ExportOptions], Files]] = {

@@ -20,7 +20,15 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.runtime.exporters.floor import ExportOptions, Floor, rectangle_of, safe_name, yaml_number
+from mazegen.runtime.documents.floor import Floor
+from mazegen.runtime.exporters.floor import (
+    ExportOptions,
+    export_scale,
+    file_stem,
+    rectangle_of,
+    safe_name,
+    yaml_number,
+)
 from mazegen.runtime.exporters.gazebo import WALL_THICKNESS
 from mazegen.spec import Arena, Robot, robot_for
 
@@ -154,7 +162,7 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
         MazeError: When the arena's unit has no size in metres and no ``--scale`` is given, or the
             arena has no robot radius.
     """
-    metres = floor.metres_per_unit(options)
+    metres = export_scale(floor, options)
     arena = floor.arena
     width, height = float(arena["width"]) * metres, float(arena["height"]) * metres
     step = floor_robot(floor).step
@@ -174,4 +182,4 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     ]
     for obstacle in (*_parts(floor, metres), *_walls(width, height)):
         lines.extend(obstacle)
-    return {f"{floor.name}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}
+    return {f"{file_stem(floor)}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}

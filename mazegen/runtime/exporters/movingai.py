@@ -18,7 +18,8 @@ import numpy as np
 from numba import njit
 
 from mazegen.runtime.compiling import inner_kernel
-from mazegen.runtime.exporters.floor import ExportOptions, Floor
+from mazegen.runtime.documents.floor import Floor
+from mazegen.runtime.exporters.floor import ExportOptions, configuration_space, file_stem
 
 SQRT2 = math.sqrt(2.0)
 
@@ -87,16 +88,16 @@ def movingai_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     Raises:
         MazeError: When the scenario's spec is unknown, or for a bad cell size.
     """
-    free, grid = floor.configuration_space(options.cell)
+    free, grid = configuration_space(floor, options.cell)
     # MovingAI counts rows from the top.
     (sr, sc), (gr, gc) = ((grid.rows - 1 - r, c) for r, c in (grid.start_cell, grid.goal_cell))
     length = octile_length(free[::-1].copy(), (sr, sc), (gr, gc))
-    name = f"{floor.name}.map"
+    name = f"{file_stem(floor)}.map"
     scen = ["version 1"]
     if math.isfinite(length):
         bucket = int(length // 4)
         scen.append(f"{bucket}\t{name}\t{grid.cols}\t{grid.rows}\t{sc}\t{sr}\t{gc}\t{gr}\t{length:.8f}")
     return {
         name: map_bytes(free),
-        f"{floor.name}.scen": ("\n".join(scen) + "\n").encode("utf-8"),
+        f"{file_stem(floor)}.scen": ("\n".join(scen) + "\n").encode("utf-8"),
     }
