@@ -39,6 +39,8 @@ class RunDirectory:
 
     POPULATION = "population.npz"
     """A finished run's final population, in its folder."""
+    RECORD_FORMAT = "mazegen-run"
+    """The ``format`` of ``experiment.json``."""
 
     record = _Place("experiment.json")
     """``experiment.json``: the experiment's settings, seeds and versions."""

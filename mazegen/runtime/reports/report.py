@@ -98,8 +98,9 @@ def read_run(path: Path) -> RunContents:
     if not layout.stats.is_file():
         raise MazeError("not a finished run directory (no stats.csv)", filename=str(path))
     experiment = _json(layout.record, "experiment.json")
-    if experiment.get("format") != "mazegen-run":
-        raise MazeError('not a run record (expected "format": "mazegen-run")', filename=str(layout.record))
+    wanted = RunDirectory.RECORD_FORMAT
+    if experiment.get("format") != wanted:
+        raise MazeError(f'not a run record (expected "format": "{wanted}")', filename=str(layout.record))
     spec = read_spec(layout.spec) if layout.spec.is_file() else None
     stats = _rows(layout.stats)
     needed = {"run", "generation", *STATISTICS}

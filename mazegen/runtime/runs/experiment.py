@@ -49,7 +49,7 @@ class Experiment:
         """The resolved experiment: settings, seeds and software versions."""
         spec = self.problem.spec
         return {
-            "format": "mazegen-run",
+            "format": RunDirectory.RECORD_FORMAT,
             "version": 1,
             "scenario": spec.name,
             "source": spec.source,
