@@ -1,16 +1,22 @@
 """A scenario file read with the spec it was made under, when known: what ``export`` and ``drive`` read.
 
-The spec comes from ``--spec`` or is found beside the scenario (``spec.json`` of a suite
-directory, ``experiment/spec.json`` of a run directory: see
-:mod:`~mazegen.runtime.documents.folders`). A hand-written document is completed from it.
+Drawings, JSON and Gazebo worlds need only the document (its elements' world polygons).
+Occupancy maps need the engine's own grid, which the spec defines: the spec comes from
+``--spec`` or is found beside the scenario (``spec.json`` of a suite directory,
+``experiment/spec.json`` of a run directory: see :mod:`~mazegen.runtime.documents.folders`).
+A hand-written document is completed from it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+import re
+from dataclasses import dataclass, replace
 from functools import cached_property
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
+
+import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.runtime.documents.folders import RunDirectory, SuiteDirectory
@@ -24,8 +30,38 @@ from mazegen.runtime.documents.scenario import (
 from mazegen.runtime.documents.task import arena_differences, task_note, task_spec
 from mazegen.runtime.engine.population import Population
 from mazegen.runtime.engine.problem import read_build_spec
+from mazegen.runtime.geometry.cspace import Grid, grid_of, point_grid_of
 from mazegen.runtime.geometry.elements import ElementTable
+from mazegen.runtime.navigation.paths import free_cells
 from mazegen.spec import Arena, Spec
+
+EXPORT_METRES_PER_UNIT = {"mm": 0.001, "cm": 0.01, "m": 1.0, "px": 0.01}
+"""Metres per arena unit in exports: ``px`` has no physical size, so exports take 1 px = 1 cm
+(:data:`mazegen.spec.METRES_PER_UNIT` sizes a pixel from the robot instead)."""
+
+MAX_CELLS_PER_SIDE = 4096
+"""Largest grid side a grid export accepts: beyond it maps are too large to search."""
+
+_UNSAFE = re.compile(r"[\s\x00-\x1f\x7f-\x9f\ud800-\udfff\ufffe\uffff]")
+"""Whitespace, control characters, lone surrogates and the two non-characters XML forbids."""
+
+
+def safe_name(text: str) -> str:
+    """``text`` with each character :data:`_UNSAFE` matches replaced by ``_``.
+
+    Safe in file names, XML text and comments, YAML and the tab-separated lines of
+    MovingAI's ``.scen``, whatever name the user's file has.
+    """
+    return _UNSAFE.sub("_", text)
+
+
+class Scale(Protocol):
+    """What :meth:`Floor.metres_per_unit` reads of an export's options
+    (:class:`~mazegen.runtime.exporters.floor.ExportOptions`)."""
+
+    @property
+    def scale(self) -> float | None:
+        """Metres per arena unit, or None for the unit's own."""
 
 
 @dataclass(frozen=True)
@@ -48,6 +84,11 @@ class Floor:
     unlike_spec: str | None = None
 
     @property
+    def name(self) -> str:
+        """Stem every exported file is named after (``best-01``), made safe (:func:`safe_name`)."""
+        return safe_name(self.source.stem)
+
+    @property
     def where(self) -> str:
         """The scenario file, for messages."""
         return str(self.source)
@@ -56,6 +97,21 @@ class Floor:
     def arena(self) -> dict[str, Any]:
         """The document's ``arena`` object."""
         return self.document["arena"]
+
+    def metres_per_unit(self, options: Scale) -> float:
+        """Metres per arena unit: ``options.scale``, else the arena unit's (:data:`EXPORT_METRES_PER_UNIT`).
+
+        Raises:
+            MazeError: For a unit of unknown size and no scale.
+        """
+        if options.scale is not None:
+            return options.scale
+        unit = self.arena.get("unit")
+        if unit not in EXPORT_METRES_PER_UNIT:
+            raise MazeError(
+                f"arena unit {unit!r} has no known size in metres: give --scale", filename=self.where
+            )
+        return EXPORT_METRES_PER_UNIT[unit]
 
     def needs_spec(self, what: str) -> Spec:
         """The spec, or a one-line error saying that ``what`` needs it."""
@@ -81,6 +137,41 @@ class Floor:
         spec = self.needs_spec("this export")
         table = ElementTable.from_types(spec.scenario_elements)
         return population_from_document(spec, table, self.document, self.where)
+
+    def occupancy(self, cell: float | None = None) -> tuple[np.ndarray, Grid]:
+        """``bool[rows, cols]``: the cells the elements occupy on a grid of ``cell``, by default the
+        engine's (row 0 at y = 0).
+
+        The engine's configuration space for a point robot: no disc dilation, and blocked
+        only where elements touch, or for a partial edge cell whose centre lies outside the arena.
+
+        Raises:
+            MazeError: For a cell that gives too large a grid.
+        """
+        grid = point_grid_of(self._arena_of_cell(cell, "an occupancy map"))
+        return ~free_cells(self.population, grid, 0), grid
+
+    def configuration_space(self, cell: float | None) -> tuple[np.ndarray, Grid]:
+        """``bool[rows, cols]`` free cells for the robot's centre, on a grid of ``cell`` (row 0 at y = 0).
+
+        Raises:
+            MazeError: For a cell that gives too large a grid.
+        """
+        grid = grid_of(self._arena_of_cell(cell, "a grid map"))
+        return free_cells(self.population, grid, 0), grid
+
+    def _arena_of_cell(self, cell: float | None, what: str) -> Arena:
+        """The spec's arena with its grid of ``cell`` arena units (None: the spec's own grid)."""
+        arena = self.needs_spec(what).arena
+        if cell is None:
+            return arena
+        sides = [math.ceil(side / cell - 1e-9) for side in (arena.width, arena.height)]
+        if max(sides) > MAX_CELLS_PER_SIDE:
+            raise MazeError(
+                f"--cell {cell:g} gives a {sides[0]} x {sides[1]} grid; "
+                f"at most {MAX_CELLS_PER_SIDE} cells a side: choose a larger cell"
+            )
+        return replace(arena, grid=cell)
 
 
 def load_floor(path: Path, spec: Spec | None = None) -> Floor:

@@ -13,14 +13,14 @@ from collections.abc import Callable
 from mazegen.errors import MazeError
 from mazegen.runtime.documents.floor import Floor
 from mazegen.runtime.documents.scenario import dumps
-from mazegen.runtime.exporters.floor import ExportOptions, file_stem
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.exporters.gazebo import gazebo_files
 from mazegen.runtime.exporters.irsim import irsim_files
 from mazegen.runtime.exporters.movingai import movingai_files
 from mazegen.runtime.exporters.ros import ros_files
 from mazegen.runtime.reports.render import scenario_png, scenario_svg
 
-__all__ = ["FORMATS", "ExportOptions", "Files"]
+__all__ = ["FORMATS", "ExportOptions", "Files", "Floor"]
 
 Files = dict[str, bytes]
 """Exported files: name (``best-01.pgm``) to content."""
@@ -28,18 +28,18 @@ Files = dict[str, bytes]
 
 def json_files(floor: Floor, options: ExportOptions) -> Files:
     """``NAME.json``: the scenario document, MazeGen's canonical format."""
-    name = f"{file_stem(floor)}.json"
+    name = f"{floor.name}.json"
     return {name: dumps(floor.document, name).encode("utf-8")}
 
 
 def svg_files(floor: Floor, options: ExportOptions) -> Files:
     """``NAME.svg``: the drawing of the scenario."""
-    return {f"{file_stem(floor)}.svg": scenario_svg(floor.document).encode("utf-8")}
+    return {f"{floor.name}.svg": scenario_svg(floor.document).encode("utf-8")}
 
 
 def png_files(floor: Floor, options: ExportOptions) -> Files:
     """``NAME.png``: the drawing of the scenario."""
-    return {f"{file_stem(floor)}.png": scenario_png(floor.document)}
+    return {f"{floor.name}.png": scenario_png(floor.document)}
 
 
 FORMATS: dict[str, Callable[[Floor, ExportOptions], Files]] = {

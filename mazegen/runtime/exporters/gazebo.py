@@ -19,8 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from mazegen.runtime.documents.floor import Floor
-from mazegen.runtime.exporters.floor import ExportOptions, export_scale, file_stem, rectangle_of, safe_name
+from mazegen.runtime.documents.floor import Floor, safe_name
+from mazegen.runtime.exporters.floor import ExportOptions, rectangle_of
 from mazegen.runtime.reports.render import rgb
 
 SDF_VERSION = "1.6"
@@ -172,7 +172,7 @@ def gazebo_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     Raises:
         MazeError: When the arena's unit has no size in metres.
     """
-    metres = export_scale(floor, options)
+    metres = floor.metres_per_unit(options)
     arena, elements = floor.arena, floor.document["elements"]
     root = ET.Element("sdf", version=SDF_VERSION)
     root.append(
@@ -189,7 +189,7 @@ def gazebo_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
         _element_model(world, _model_name(index, width, element.get("type")), element, metres)
     ET.indent(root, space="  ")
     text = '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
-    return {f"{file_stem(floor)}.sdf": text.encode("utf-8")}
+    return {f"{floor.name}.sdf": text.encode("utf-8")}
 
 
 def _comment(text: str) -> str:

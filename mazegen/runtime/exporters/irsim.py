@@ -20,15 +20,8 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.runtime.documents.floor import Floor
-from mazegen.runtime.exporters.floor import (
-    ExportOptions,
-    export_scale,
-    file_stem,
-    rectangle_of,
-    safe_name,
-    yaml_number,
-)
+from mazegen.runtime.documents.floor import Floor, safe_name
+from mazegen.runtime.exporters.floor import ExportOptions, rectangle_of, yaml_number
 from mazegen.runtime.exporters.gazebo import WALL_THICKNESS
 from mazegen.spec import Arena, Robot, robot_for
 
@@ -162,7 +155,7 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
         MazeError: When the arena's unit has no size in metres and no ``--scale`` is given, or the
             arena has no robot radius.
     """
-    metres = export_scale(floor, options)
+    metres = floor.metres_per_unit(options)
     arena = floor.arena
     width, height = float(arena["width"]) * metres, float(arena["height"]) * metres
     step = floor_robot(floor).step
@@ -182,4 +175,4 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     ]
     for obstacle in (*_parts(floor, metres), *_walls(width, height)):
         lines.extend(obstacle)
-    return {f"{file_stem(floor)}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}
+    return {f"{floor.name}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}

@@ -19,7 +19,7 @@ from numba import njit
 
 from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.documents.floor import Floor
-from mazegen.runtime.exporters.floor import ExportOptions, configuration_space, file_stem
+from mazegen.runtime.exporters.floor import ExportOptions
 
 SQRT2 = math.sqrt(2.0)
 
@@ -88,16 +88,16 @@ def movingai_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     Raises:
         MazeError: When the scenario's spec is unknown, or for a bad cell size.
     """
-    free, grid = configuration_space(floor, options.cell)
+    free, grid = floor.configuration_space(options.cell)
     # MovingAI counts rows from the top.
     (sr, sc), (gr, gc) = ((grid.rows - 1 - r, c) for r, c in (grid.start_cell, grid.goal_cell))
     length = octile_length(free[::-1].copy(), (sr, sc), (gr, gc))
-    name = f"{file_stem(floor)}.map"
+    name = f"{floor.name}.map"
     scen = ["version 1"]
     if math.isfinite(length):
         bucket = int(length // 4)
         scen.append(f"{bucket}\t{name}\t{grid.cols}\t{grid.rows}\t{sc}\t{sr}\t{gc}\t{gr}\t{length:.8f}")
     return {
         name: map_bytes(free),
-        f"{file_stem(floor)}.scen": ("\n".join(scen) + "\n").encode("utf-8"),
+        f"{floor.name}.scen": ("\n".join(scen) + "\n").encode("utf-8"),
     }

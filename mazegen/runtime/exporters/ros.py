@@ -1,8 +1,8 @@
 """ROS and ROS 2 occupancy maps: a PGM image and the YAML that ``map_server`` loads.
 
 The image is the engine's own occupancy grid (the cells the elements touch, see
-:func:`~mazegen.runtime.exporters.floor.occupancy`), one pixel per cell, framed by one occupied cell on each
-side for the arena's edge, which the engine never lets the robot cross. Pixels
+:meth:`~mazegen.runtime.documents.floor.Floor.occupancy`), one pixel per cell, framed by one
+occupied cell on each side for the arena's edge, which the engine never lets the robot cross. Pixels
 are 0 (occupied) or 254 (free); 205 (unknown) is never written, and the YAML's
 thresholds read it back as unknown, not free. Lengths are metres whatever the
 arena's unit, and the map frame is the arena's: its lower-left corner at (0, 0).
@@ -14,15 +14,8 @@ import json
 
 import numpy as np
 
-from mazegen.runtime.documents.floor import Floor
-from mazegen.runtime.exporters.floor import (
-    ExportOptions,
-    export_scale,
-    file_stem,
-    occupancy,
-    safe_name,
-    yaml_number,
-)
+from mazegen.runtime.documents.floor import Floor, safe_name
+from mazegen.runtime.exporters.floor import ExportOptions, yaml_number
 
 OCCUPIED = 0
 FREE = 254
@@ -52,10 +45,10 @@ def ros_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     Raises:
         MazeError: When the scenario's spec is unknown or its unit has no size in metres.
     """
-    occupied, grid = occupancy(floor, options.cell)
-    metres = export_scale(floor, options)
+    occupied, grid = floor.occupancy(options.cell)
+    metres = floor.metres_per_unit(options)
     resolution = grid.cell * metres
-    image = f"{file_stem(floor)}.pgm"
+    image = f"{floor.name}.pgm"
     arena = floor.arena
     start, goal = ([yaml_number(v * metres) for v in arena[key]] for key in ("start", "goal"))
     source = json.dumps(safe_name(floor.source.name))
@@ -72,4 +65,4 @@ def ros_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
         f"occupied_thresh: {OCCUPIED_THRESH}",
         f"free_thresh: {FREE_THRESH}",
     ]
-    return {image: map_image(occupied), f"{file_stem(floor)}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}
+    return {image: map_image(occupied), f"{floor.name}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}

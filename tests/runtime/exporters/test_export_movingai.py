@@ -11,7 +11,7 @@ import pytest
 import mazegen
 from mazegen.errors import MazeError
 from mazegen.runtime.documents.floor import load_floor
-from mazegen.runtime.exporters.floor import ExportOptions, file_stem
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.exporters.movingai import movingai_files, octile_length
 from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.paths import free_cells
@@ -55,9 +55,9 @@ def dijkstra(passable: np.ndarray, start: tuple[int, int], goal: tuple[int, int]
 
 def exported(floor, cell: float | None = None) -> tuple[np.ndarray, list[list[str]]]:
     files = movingai_files(floor, ExportOptions(cell=cell))
-    scen = files[f"{file_stem(floor)}.scen"].decode().splitlines()
+    scen = files[f"{floor.name}.scen"].decode().splitlines()
     assert scen[0] == "version 1"
-    return read_map(files[f"{file_stem(floor)}.map"].decode()), [line.split("\t") for line in scen[1:]]
+    return read_map(files[f"{floor.name}.map"].decode()), [line.split("\t") for line in scen[1:]]
 
 
 @pytest.mark.parametrize("cell", [None, 25.0, 7.5])

@@ -13,7 +13,7 @@ import yaml
 import mazegen
 from mazegen.errors import MazeError
 from mazegen.runtime.documents.floor import load_floor
-from mazegen.runtime.exporters.floor import ExportOptions, file_stem, occupancy
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.exporters.ros import FREE_THRESH, OCCUPIED_THRESH, ros_files
 from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.paths import free_cells
@@ -66,7 +66,7 @@ def load_map(yaml_path: Path) -> tuple[np.ndarray, dict]:
 def export(floor, tmp_path: Path, options: ExportOptions | None = None) -> Path:
     for name, data in ros_files(floor, options or ExportOptions()).items():
         (tmp_path / name).write_bytes(data)
-    return tmp_path / f"{file_stem(floor)}.yaml"
+    return tmp_path / f"{floor.name}.yaml"
 
 
 def element_cells(document: dict, cell: float, rows: int, cols: int) -> tuple[np.ndarray, np.ndarray]:
@@ -86,7 +86,7 @@ def test_round_trip_gives_the_engines_occupancy(factory_run, tmp_path):
     assert len(scenarios) == 8
     for path in scenarios:
         floor = load_floor(path)
-        occupied, grid = occupancy(floor)
+        occupied, grid = floor.occupancy()
         loaded, meta = load_map(export(floor, tmp_path))
         assert meta["resolution"] == pytest.approx(spec.arena.cell / 100)
         assert meta["origin"] == [pytest.approx(-meta["resolution"]), pytest.approx(-meta["resolution"]), 0.0]
