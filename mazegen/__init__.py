@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from mazegen.api import build, load, resume, run, sweep
     from mazegen.errors import MazeError
+    from mazegen.runtime.plugin_view import Floors
     from mazegen.runtime.runs.launcher import ExperimentResult
     from mazegen.spec import Spec
 
@@ -24,12 +25,13 @@ _HOMES = {
     "resume": "mazegen.api",
     "sweep": "mazegen.api",
     "ExperimentResult": "mazegen.runtime.runs.launcher",
+    "Floors": "mazegen.runtime.plugin_view",
     "MazeError": "mazegen.errors",
     "Spec": "mazegen.spec",
 }
 """Each public name and the module that defines it."""
 
-__all__ = ["ExperimentResult", "MazeError", "Spec", "build", "load", "resume", "run", "sweep"]
+__all__ = ["ExperimentResult", "Floors", "MazeError", "Spec", "build", "load", "resume", "run", "sweep"]
 
 
 def __getattr__(name: str) -> Any:

@@ -70,6 +70,11 @@ class MazeError(Exception):
         return ":".join([*where, " " + message]) if where else message
 
 
+class MazeNote(UserWarning):
+    """Something the user should know that is no mistake (a bundled library used rather than a
+    plug-in's of the same name): a warning in Python, one line on standard error from the command line."""
+
+
 def brief(text: object, limit: int = 40) -> str:
     """``text`` as a message quotes it: printable and cut to ``limit`` characters, so a 5,000-digit
     number or a 100 KB token does not flood the one line of an error."""

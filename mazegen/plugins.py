@@ -8,10 +8,13 @@ imports nothing: a plug-in's module is imported only when the plug-in is used (:
 from __future__ import annotations
 
 import importlib.metadata
+import warnings
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, MazeNote
+from mazegen.text import quoted, suggestion
 
 GROUPS = {
     "controllers": "mazegen.controllers",
@@ -38,6 +41,11 @@ class Plugin:
         """Where it comes from, as messages and ``mazegen plugins`` say it: ``mazegen-warehouse 1.0``."""
         return f"{self.distribution} {self.version}".strip()
 
+    @property
+    def described(self) -> str:
+        """The plug-in as messages name it: ``library plug-in 'warehouse' of mazegen-warehouse 1.0``."""
+        return f"{_one(self.kind)} plug-in {self.name!r} of {self.origin}"
+
     def load(self) -> Any:
         """The object the entry point names.
 
@@ -49,9 +57,13 @@ class Plugin:
             return point.load()
         except (Exception, SystemExit) as error:  # a broken package: its own error, said in one line
             raise MazeError(
-                f"{self.kind[:-1]} plug-in {self.name!r} of {self.origin} fails to load "
-                f"({self.value}: {type(error).__name__}: {error})"
+                f"{self.described} fails to load ({self.value}: {type(error).__name__}: {error})"
             ) from error
+
+
+def _one(kind: str) -> str:
+    """One of ``kind``: ``library`` of ``libraries``, ``metric`` of ``metrics``."""
+    return kind.removesuffix("ies") + "y" if kind.endswith("ies") else kind.removesuffix("s")
 
 
 def _entry_points(kind: str) -> list[importlib.metadata.EntryPoint]:
@@ -80,7 +92,7 @@ def find(kind: str, name: str) -> Plugin | None:
     found = [plugin for plugin in installed(kind) if plugin.name == name]
     if len(found) > 1:
         raise MazeError(
-            f"{kind[:-1]} plug-in {name!r} is registered by more than one package "
+            f"{_one(kind)} plug-in {name!r} is registered by more than one package "
             f"({', '.join(p.origin for p in found)}): uninstall all but one"
         )
     return found[0] if found else None
@@ -89,3 +101,23 @@ def find(kind: str, name: str) -> Plugin | None:
 def names(kind: str) -> list[str]:
     """The names registered for ``kind``, sorted, each once."""
     return sorted({plugin.name for plugin in installed(kind)})
+
+
+def note_unused(kind: str, name: str, what: str, *, at: str = "") -> None:
+    """Say (a :class:`~mazegen.errors.MazeNote`) that a plug-in registered as ``name`` is not used,
+    ``name`` being a bundled ``what``'s: installing a package never changes what a name means."""
+    for plugin in installed(kind):
+        if plugin.name == name:
+            warnings.warn(
+                f"{at}{plugin.described} is not used: '{name}' is a bundled {what}", MazeNote, stacklevel=3
+            )
+
+
+def unknown(kind: str, what: str, name: str, bundled: Sequence[str], *, hint: str = "") -> str:
+    """The message for a ``name`` neither bundled nor registered: ``unknown WHAT 'NAME' (did you mean
+    ...?) (bundled: ...; registered: ...; HINT)``."""
+    registered = names(kind)
+    listed = [f"bundled: {', '.join(bundled)}"]
+    listed += [f"registered: {', '.join(registered)}"] if registered else []
+    listed += [hint] if hint else []
+    return f"unknown {what} {quoted(name)}{suggestion(name, [*bundled, *registered])} ({'; '.join(listed)})"

@@ -147,9 +147,6 @@ class Scenario:
     placement: GrammarPlacement | None = None
 
 
-REWARDS = frozenset({"count", "difficulty", "metric", "diversity", "coverage", "drive"})
-"""Term kinds added to the fitness; the others are penalties, subtracted."""
-
 PATH_METRICS = (
     "path_length",
     "clearance",
@@ -167,18 +164,37 @@ DIFFICULTY_LEVELS = {"easy": (0.0, 25.0), "medium": (25.0, 50.0), "hard": (50.0,
 
 
 @dataclass(frozen=True)
-class FitnessTerm:
-    """One term of the fitness.
+class PluginMetric:
+    """Where a ``metric`` term's function comes from and what it is given (docs/extending.md).
 
-    ``kind`` is one of ``count``, ``overlap``, ``size_limit``, ``outside``,
-    ``solvable``, ``difficulty``, ``metric``, ``diversity`` or ``coverage``.
-    ``weight`` multiplies the term (penalties are subtracted). ``limit`` is the
-    size limit. ``reject`` makes an individual invalid instead of penalised.
-    ``target`` is the ``(low, high)`` range a difficulty, metric or coverage term
-    rewards closeness to; ``metric`` names the metric of a ``metric`` term, or
-    ``entropy`` / ``types`` for a diversity term. A ``drive`` term reads how the robot
-    fares under ``controllers`` (one name, two for ``disagree``); its ``metric`` is one of
-    :data:`DRIVE_MEASURES`.
+    Attributes:
+        source: The Python file that defines it (absolute), or None for an installed package's
+            ``mazegen.metrics`` entry point.
+        package: The distribution that registers it (None for a file): named when a machine lacks it.
+        arguments: Keyword arguments the spec gives it, in the spec's order.
+        types: The scenario's element type names, which the floors' type ids index.
+        where: ``file:line:col`` of the term, for errors raised while it runs.
+    """
+
+    source: str | None
+    package: str | None
+    arguments: tuple[tuple[str, float], ...]
+    types: tuple[str, ...]
+    where: str
+
+
+@dataclass(frozen=True)
+class FitnessTerm:
+    """One term of the fitness; its kind is a row of :data:`mazegen.fitness_terms.TERMS`.
+
+    ``weight`` multiplies the term (penalties are subtracted; a metric plug-in's weight is signed,
+    negative for ``penalty W``). ``limit`` is the size limit, or a plug-in's reject threshold.
+    ``reject`` makes an individual invalid instead of penalised. ``target`` is the ``(low, high)``
+    range a difficulty, metric, coverage, drive or plug-in term rewards closeness to; ``metric`` names
+    the metric of a ``metric`` term, ``entropy`` / ``types`` for a diversity term, a drive term's
+    measure (one of :data:`DRIVE_MEASURES`) or a plug-in's name. A ``drive`` term reads how the robot
+    fares under ``controllers`` (one name, two for ``disagree``); ``plugin`` says where a
+    plug-in's function comes from.
     """
 
     kind: str
@@ -188,14 +204,15 @@ class FitnessTerm:
     target: tuple[float, float] | None = None
     metric: str | None = None
     controllers: tuple[str, ...] = ()
+    plugin: PluginMetric | None = None
 
     @property
     def key(self) -> str:
-        """The term's name in fitness breakdowns: its kind, its metric's name, or for a drive term its
-        controllers' and measure's (``dwa_fails``, ``dwa_purepursuit_disagree``)."""
+        """The term's name in fitness breakdowns: its kind, its metric's or plug-in's name, or for a
+        drive term its controllers' and measure's (``dwa_fails``, ``dwa_purepursuit_disagree``)."""
         if self.kind == "drive":
             return "_".join(re.sub(r"\W", "_", name) for name in (*self.controllers, self.metric or ""))
-        return self.metric if self.kind == "metric" and self.metric else self.kind
+        return self.metric if self.kind in ("metric", "plugin") and self.metric else self.kind
 
 
 DRIVE_MEASURES = ("fails", "time", "clearance", "disagree")
@@ -434,11 +451,6 @@ class Spec:
         return self.robot if self.robot is not None else robot_for(self.arena)
 
     @property
-    def reads_difficulty(self) -> bool:
-        """Whether a fitness term reads the difficulty metrics (not just solvability)."""
-        return any(term.kind in ("difficulty", "metric") for term in self.fitness)
-
-    @property
     def drive_controllers(self) -> tuple[str, ...]:
         """The controllers the drive terms name, each once, in order (none: the spec drives no robot)."""
         named = (name for term in self.fitness if term.kind == "drive" for name in term.controllers)
@@ -452,6 +464,9 @@ class Spec:
     def to_json(self) -> str:
         """Serialise to deterministic JSON text."""
         body = {"format": "mazegen-spec", "version": SPEC_FORMAT_VERSION, **dataclasses.asdict(self)}
+        for term in body["fitness"]:  # a spec without plug-ins reads as it did before they came
+            if term["plugin"] is None:
+                del term["plugin"]
         return json.dumps(body, indent=2, sort_keys=True, allow_nan=False) + "\n"
 
     @classmethod
@@ -519,7 +534,12 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
     )
     fitness = tuple(
         FitnessTerm(
-            **{**t, "target": _optional_pair(t.get("target")), "controllers": tuple(t.get("controllers", ()))}
+            **{
+                **t,
+                "target": _optional_pair(t.get("target")),
+                "controllers": tuple(t.get("controllers", ())),
+                "plugin": _plugin_from_dict(t.get("plugin")),
+            }
         )
         for t in data["fitness"]
     )
@@ -533,6 +553,13 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         Evolution(**{**FIRST_OPERATORS, **data["evolution"]}),
         _robot_from_dict(data.get("robot")),
     )
+
+
+def _plugin_from_dict(data: dict[str, Any] | None) -> PluginMetric | None:
+    if data is None:
+        return None
+    arguments = tuple((str(name), float(value)) for name, value in data["arguments"])
+    return PluginMetric(data["source"], data["package"], arguments, tuple(data["types"]), data["where"])
 
 
 def _robot_from_dict(data: dict[str, Any] | None) -> Robot | None:

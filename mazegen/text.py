@@ -1,9 +1,12 @@
-"""Text from users' files: made safe to print on one terminal line, and grammar escapes decoded."""
+"""Text from users' files: made safe to print on one terminal line, grammar escapes decoded, and the
+known name suggested for a misspelt one."""
 
 from __future__ import annotations
 
 import codecs
+import difflib
 import warnings
+from collections.abc import Iterable
 
 _NAMED = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
 
@@ -43,6 +46,12 @@ def quoted(text: str, *, limit: int = 40) -> str:
     return f"'{printable(text, limit=limit)}'"
 
 
+def suggestion(name: str, known: Iterable[str]) -> str:
+    """`` (did you mean 'x'?)`` when a known name is close to ``name``."""
+    close = difflib.get_close_matches(name, list(known), n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
 def decode_escapes(part: str) -> str:
     """Decode backslash escapes (``\\n``, ``\\u00e9``...) like PonyGE2's ``unicode-escape`` step,
     as grammar terminals are read; the language checks grammar text with it too.
@@ -58,3 +67,8 @@ def decode_escapes(part: str) -> str:
             return codecs.decode(part.encode("latin-1", "backslashreplace"), "unicode-escape")
     except UnicodeDecodeError as exc:
         raise ValueError(exc.reason) from None
+
+
+def number(value: float) -> str:
+    """A number as the language writes it: ``1400`` rather than ``1400.0``, ``0.05`` as is."""
+    return str(int(value)) if float(value).is_integer() and abs(value) < 1e15 else repr(float(value))

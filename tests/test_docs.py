@@ -9,7 +9,7 @@ A block's info string names its kind (GitHub highlights by the first word and ig
 - ``console``: each ``$ mazegen ...`` line runs; its standard output must be the lines shown under it
   (a line ``...`` stands for any lines), so figures quoted from an output follow the code.
 - ``maze``: a whole spec or library, which must pass ``mazegen check``.
-- ``json``, ``yaml``, ``csv``: must parse. ``sql``: runs on the page's ``runs/catalog.sqlite``.
+- ``json``, ``yaml``, ``toml``, ``csv``: must parse. ``sql``: runs on the page's ``runs/catalog.sqlite``.
 - ``text``: anything not to run: synopses, fragments of the language, grammars, outputs, trees.
 
 Any other kind, or none, fails: a new block says what it is. A block with ``file=NAME`` in its
@@ -186,6 +186,8 @@ def test_block(block: Block, workdir: Path, monkeypatch) -> None:
         json.loads(block.text)
     elif block.kind == "yaml":
         yaml.safe_load(block.text)
+    elif block.kind == "toml":
+        pytest.importorskip("tomllib").loads(block.text)  # Python 3.11 on
     elif block.kind == "csv":
         rows = list(csv.reader(io.StringIO(block.text)))
         assert len({len(row) for row in rows}) == 1, "rows of different lengths"

@@ -7,10 +7,13 @@ from pathlib import Path
 import click
 
 from mazegen.cli.errors import reports_errors
+from mazegen.export_formats import BUNDLED, takers
 from mazegen.text import printable
 
-FORMAT_NAMES = ("ros", "gazebo", "irsim", "movingai", "json", "svg", "png")
-"""The names of :data:`mazegen.runtime.exporters.FORMATS`, known here without importing the runtime."""
+
+def _applies(option: str) -> str:
+    """``ros, movingai: `` for an option's help: the formats that read it, from their rows."""
+    return f"{', '.join(takers(option))}: "
 
 
 @click.command()
@@ -20,8 +23,9 @@ FORMAT_NAMES = ("ros", "gazebo", "irsim", "movingai", "json", "svg", "png")
     "--format",
     "fmt",
     required=True,
-    type=click.Choice(FORMAT_NAMES),
-    help="ros: PGM + YAML map; gazebo: SDF world; irsim: IR-SIM YAML; movingai: .map, .scen; json; svg; png.",
+    metavar="FORMAT",
+    help="; ".join(f"{row.name}: {row.summary}" for row in BUNDLED.values())
+    + "; or one an installed package registers (mazegen plugins).",
 )
 @click.option(
     "-o",
@@ -37,12 +41,12 @@ FORMAT_NAMES = ("ros", "gazebo", "irsim", "movingai", "json", "svg", "png")
 @click.option(
     "--cell",
     type=float,
-    help="ros, movingai: cell size in arena units (default the spec's navigation grid cell).",
+    help=_applies("cell") + "cell size in arena units (default the spec's navigation grid cell).",
 )
 @click.option(
     "--scale",
     type=float,
-    help="ros, gazebo, irsim: metres per arena unit, 1e-06 to 1000 (default from the unit; 1 px = 1 cm).",
+    help=_applies("scale") + "metres per arena unit, 1e-06 to 1000 (default from the unit; 1 px = 1 cm).",
 )
 @click.option("--force", is_flag=True, help="Replace files that exist already.")
 @reports_errors
@@ -56,16 +60,18 @@ def export(
     force: bool,
 ) -> None:
     """Export SOURCE (a scenario JSON file, or every best scenario of a run or suite directory)."""
+    from mazegen.export_formats import export_format
     from mazegen.runtime.exporters.batch import default_out_dir, export_plan, write_files
     from mazegen.runtime.exporters.floor import ExportOptions
 
-    options = ExportOptions(scale=scale, cell=cell)  # checked before anything is read
+    options = ExportOptions(scale=scale, cell=cell)  # options and format checked before anything is read
+    row = export_format(fmt)
     resolved = None
     if spec is not None:
         from mazegen.dsl.loader import load_spec
 
         resolved = load_spec(spec)
     target = out or default_out_dir(source, fmt)
-    files = export_plan(source, fmt, target, spec=resolved, options=options)
+    files = export_plan(source, row, target, spec=resolved, options=options)
     write_files(files, force=force)
     click.echo(f"wrote {len(files)} files to {printable(str(target))}")

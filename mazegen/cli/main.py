@@ -28,6 +28,7 @@ COMMANDS = {
     "render": "render",
     "export": "export",
     "report": "report",
+    "plugins": "plugins",
 }
 """Sub-command name -> the name of its click command in module ``mazegen.cli.<sub-command>``."""
 

@@ -7,7 +7,9 @@ from typing import Any
 
 from mazegen.dsl.bounds import MAX_LENGTH, MAX_SLOTS, MAX_TARGET, MAX_TERMINALS, MAX_WEIGHT, at_most
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
+from mazegen.dsl.plugin_terms import plugin_term
 from mazegen.dsl.robot import drive_controllers
+from mazegen.fitness_terms import TERMS
 from mazegen.spec import (
     CROSSOVER_OPERATORS,
     DIFFICULTY_LEVELS,
@@ -195,14 +197,15 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
     return Scenario(decl.name, decl.arena, tuple(names), style, custom, max_elements, placement)
 
 
-def convert_fitness(decl: Any | None) -> tuple[FitnessTerm, ...]:
-    """Check the ``fitness`` block; without one the fitness is the element count."""
+def convert_fitness(decl: Any | None, elements: tuple[str, ...]) -> tuple[FitnessTerm, ...]:
+    """Check the ``fitness`` block (``elements``: the scenario's element types, which a metric
+    plug-in's floors name); without one the fitness is the element count."""
     if decl is None or not decl.terms:
         return (FitnessTerm("count"),)
     seen: dict[str, Any] = {}
     terms = []
     for term in decl.terms:
-        converted = _fitness_term(term)
+        converted = _fitness_term(term, elements)
         key = converted.key
         if key in seen:
             fail(term, f"duplicate fitness term '{key}' (first given at {where(seen[key])})")
@@ -211,14 +214,15 @@ def convert_fitness(decl: Any | None) -> tuple[FitnessTerm, ...]:
     return tuple(terms)
 
 
-def _fitness_term(term: Any) -> FitnessTerm:
+_KIND_OF_RULE = {row.rule: kind for kind, row in TERMS.items()}
+
+
+def _fitness_term(term: Any, elements: tuple[str, ...]) -> FitnessTerm:
+    kind = _KIND_OF_RULE[type(term).__name__]
+    if kind == "plugin":
+        return plugin_term(term, _target(term), elements)
     metric = getattr(term, "metric", None) or getattr(term, "measure", None) or None
-    drive = type(term).__name__ == "DriveTerm"
-    controllers = drive_controllers(term) if drive else ()
-    if drive:
-        kind = "drive"
-    else:
-        kind = "metric" if getattr(term, "metric", None) else {"size": "size_limit"}.get(term.kind, term.kind)
+    controllers = drive_controllers(term) if kind == "drive" else ()
     weight = term.weight if term.weight is not None else 1.0
     if weight < 0:
         fail(term, f"weight must not be negative, got {weight:g}")

@@ -12,9 +12,10 @@ from typing import Any
 
 from textx.exceptions import TextXSemanticError, TextXSyntaxError
 
+from mazegen import plugins
 from mazegen.dsl.blocks import convert_arena, convert_evolution, convert_fitness, convert_scenario
 from mazegen.dsl.elements import check_fits, convert_element
-from mazegen.dsl.located import display_path, fail, suggestion, where
+from mazegen.dsl.located import display_path, fail, where
 from mazegen.dsl.metamodel import metamodel
 from mazegen.dsl.robot import convert_robot
 from mazegen.dsl.syntax_errors import syntax_error
@@ -79,13 +80,7 @@ def _check_declares(model: Any, label: str | None) -> None:
 
 def _resolve_import(imp: Any, importer: Path) -> Path:
     if imp.library is not None:
-        if imp.library not in bundled_libraries():
-            fail(
-                imp,
-                f"unknown library {quoted(imp.library)}{suggestion(imp.library, bundled_libraries())}"
-                f" (bundled: {', '.join(bundled_libraries())}; import a file with a quoted path)",
-            )
-        return LIBRARY_DIR / f"{imp.library}.maze"
+        return _library(imp)
     if not imp.path.isprintable():
         fail(imp, f"import path {quoted(imp.path)} holds a control character")
     try:
@@ -96,6 +91,44 @@ def _resolve_import(imp: Any, importer: Path) -> Path:
     if not found:
         fail(imp, f"imported file {quoted(imp.path)} not found")
     return candidate
+
+
+def _library(imp: Any) -> Path:
+    """The file of ``import NAME``: the bundled library, else the one an installed package registers
+    (a bundled name is never replaced: a :class:`MazeNote` says so)."""
+    name = imp.library
+    if name in bundled_libraries():
+        plugins.note_unused("libraries", name, "library", at=f"{where(imp)}: ")
+        return LIBRARY_DIR / f"{name}.maze"
+    try:
+        plugin = plugins.find("libraries", name)
+        if plugin is not None:
+            return _plugin_library(plugin)
+    except MazeError as error:  # a plug-in's mistake, said at the import that uses it
+        fail(imp, error.message)
+    hint = "import a file with a quoted path"
+    fail(imp, plugins.unknown("libraries", "library", name, bundled_libraries(), hint=hint))
+
+
+def _plugin_library(plugin: plugins.Plugin) -> Path:
+    """The ``.maze`` file a library plug-in names (its object is the file's path).
+
+    Raises:
+        MazeError: naming the plug-in and its package, when it names no existing file.
+    """
+    path = plugin.load()
+    if not isinstance(path, (str, os.PathLike)):
+        raise MazeError(f"{plugin.described} gives {type(path).__name__}, not the path of a .maze file")
+    try:
+        found = Path(path).is_file()
+    except OSError as error:  # a name too long for the file system, a loop of links...
+        raise MazeError(
+            f"{plugin.described} gives the path {quoted(str(path))}, which cannot be read: "
+            f"{error.strerror or error}"
+        ) from None
+    if not found:
+        raise MazeError(f"{plugin.described} gives the path {quoted(str(path))}, which is no file")
+    return Path(path).resolve()
 
 
 def _collect(main: ParsedFile) -> list[ParsedFile]:
@@ -164,7 +197,7 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
     if scenario.placement is None:  # else the grammar's numbers size the elements, not their ranges
         for element in elements:
             check_fits(element_decls[element.name], element, arena)
-    fitness = convert_fitness(singles.get("FitnessDecl"))
+    fitness = convert_fitness(singles.get("FitnessDecl"), scenario.elements)
     robot = convert_robot(singles.get("RobotDecl"), arena, fitness, singles.get("FitnessDecl"))
     return Spec(
         name=scenario.name,

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import contextlib
-import difflib
 import os
 from collections.abc import Iterable, Mapping
 from typing import Any, NoReturn
@@ -11,6 +10,7 @@ from typing import Any, NoReturn
 from textx import get_location
 
 from mazegen.errors import MazeError
+from mazegen.text import suggestion as suggestion  # the language's modules import it from here
 
 
 def display_path(path: str | os.PathLike[str]) -> str:
@@ -38,12 +38,6 @@ def where(obj: Any) -> str:
     """``file:line:col`` of a textX object, for messages that point elsewhere."""
     filename, line, col = _location(obj)
     return f"{filename}:{line}:{col}"
-
-
-def suggestion(name: str, known: Iterable[str]) -> str:
-    """`` (did you mean 'x'?)`` when a known name is close to ``name``."""
-    close = difflib.get_close_matches(name, list(known), n=1)
-    return f" (did you mean '{close[0]}'?)" if close else ""
 
 
 def single_properties(

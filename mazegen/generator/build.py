@@ -13,8 +13,9 @@ from jinja2 import Environment, PackageLoader, StrictUndefined
 
 from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
+from mazegen.fitness_terms import term_kind
 from mazegen.generator.grammar import scenario_rules
-from mazegen.spec import REWARDS, FitnessTerm, Spec
+from mazegen.spec import Spec
 from mazegen.version import __version__
 
 ARTIFACTS = ("grammar.bnf", "fitness.py", "experiment.py", "spec.json")
@@ -31,26 +32,6 @@ class TermLine:
     drives: bool = False
 
 
-_DRIVE_NOTES = {
-    "fails": "1 where {0} collides or times out",
-    "time": "{0}'s time over the optimal time (failures: the timeout factor)",
-    "clearance": "{0}'s closest approach to an obstacle (arena units)",
-    "disagree": "1 where one of {0} and {1} arrives and the other fails",
-}
-
-
-def _drive_metric(term: FitnessTerm) -> tuple[str, str]:
-    """A drive term's call, over lines of their own (controller names may be long), and its note;
-    an individual not driven gets no credit: 0, or 0 closeness to a target."""
-    names = ", ".join(repr(name) for name in term.controllers)
-    call = f"metrics.drive_{term.metric}(pop, {names}, driven)"
-    note = _DRIVE_NOTES[term.metric or ""].format(*term.controllers)
-    if term.target is None:
-        return f"np.nan_to_num(\n            {call}\n        )", note
-    low, high = term.target
-    return f"metrics.closeness(\n            {call}, {low!r}, {high!r}\n        )", f"{note}, near a target"
-
-
 def _environment() -> Environment:
     env = Environment(
         loader=PackageLoader("mazegen", "templates"),
@@ -65,50 +46,19 @@ def _environment() -> Environment:
     return env
 
 
-def _metric(term: FitnessTerm) -> tuple[str, str]:
-    """The metric call of a term and a short note on where it comes from."""
-    target = "" if term.target is None else ", {!r}, {!r}".format(*term.target)
-    if term.kind == "drive":
-        return _drive_metric(term)
-    if term.kind == "count":
-        return "metrics.element_count(pop)", "paper eq. 1: number of elements"
-    if term.kind == "overlap":
-        return "metrics.overlapping_pairs(pop)", "paper eq. 2: pairs of overlapping elements"
-    if term.kind == "size_limit":
-        return (
-            f"metrics.elements_over_size(pop, {float(term.limit)!r})",  # type: ignore[arg-type]
-            "paper v1.5: elements over the size limit",
-        )
-    if term.kind == "solvable":
-        return "metrics.unsolvable(pop)", "no path from start to goal for the robot"
-    if term.kind == "difficulty":
-        return f"metrics.closeness(metrics.difficulty(pop){target})", "closeness to the difficulty target"
-    if term.kind == "metric":
-        return (
-            f"metrics.closeness(metrics.path_metric(pop, {term.metric!r}){target})",
-            f"closeness of the path's {term.metric} to its target",
-        )
-    if term.kind == "diversity":
-        if term.metric == "entropy":
-            return "metrics.type_entropy(pop)", "entropy of the element types, bits"
-        return "metrics.distinct_types(pop)", "number of distinct element types"
-    if term.kind == "coverage":
-        return f"metrics.closeness(metrics.coverage(pop){target})", "occupied fraction near its target"
-    return "metrics.elements_outside(pop)", "elements not wholly inside the arena"
-
-
 def fitness_lines(spec: Spec) -> tuple[list[TermLine], list[TermLine]]:
     """Split the spec's terms into scored lines and rejection tests."""
     penalised: list[TermLine] = []
     rejecting: list[TermLine] = []
     for term in spec.fitness:
-        call, note = _metric(term)
+        row = term_kind(term)
+        call, note = row.call(term)
         if term.reject:
             rejecting.append(TermLine(term.key, call, note + " (reject)"))
         elif term.weight != 0:
-            sign = "" if term.kind in REWARDS else "-"
+            sign = "" if row.reward else "-"
             expression = f"{sign}{float(term.weight)!r} * {call}"
-            penalised.append(TermLine(term.key, expression, note, drives=term.kind == "drive"))
+            penalised.append(TermLine(term.key, expression, note, drives=row.reads == "drive"))
     return penalised, rejecting
 
 

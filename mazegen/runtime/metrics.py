@@ -13,10 +13,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.errors import MazeError
+from mazegen.metric_plugins import metric_function
 from mazegen.runtime import simulation
 from mazegen.runtime.engine.population import SX, SY, Population
-from mazegen.runtime.geometry import overlap
+from mazegen.runtime.geometry.overlap import elements_outside as elements_outside_of
+from mazegen.runtime.geometry.overlap import overlapping_pairs as overlapping_pairs_of
 from mazegen.runtime.navigation.measures import navigation_of, reach_of, survey_of
+from mazegen.runtime.plugin_view import Floors
 from mazegen.spec import Robot, robot_for
 
 if TYPE_CHECKING:
@@ -30,9 +34,7 @@ def element_count(pop: Population) -> np.ndarray:
 
 def overlapping_pairs(pop: Population) -> np.ndarray:
     """Pairs of elements whose interiors intersect (paper eq. 2's N_overlapped)."""
-    return overlap.overlapping_pairs(pop.table, pop.element_ids, pop.n_elements, pop.params).astype(
-        np.float64
-    )
+    return overlapping_pairs_of(pop.table, pop.element_ids, pop.n_elements, pop.params).astype(np.float64)
 
 
 def elements_over_size(pop: Population, limit: float) -> np.ndarray:
@@ -52,7 +54,7 @@ def _count_over_size(params, n_elements, limit):  # pragma: no cover - compiled
 def elements_outside(pop: Population) -> np.ndarray:
     """Elements not wholly inside the arena."""
     arena = pop.arena
-    return overlap.elements_outside(
+    return elements_outside_of(
         pop.table, pop.element_ids, pop.n_elements, pop.params, arena.width, arena.height
     ).astype(np.float64)
 
@@ -186,3 +188,46 @@ def drive_disagree(pop: Population, first: str, second: str, driven: np.ndarray)
     one, other = episodes_of(pop, first, driven), episodes_of(pop, second, driven)
     differ = (one.failed != other.failed).astype(np.float64)
     return _spread(pop, driven, differ, one)
+
+
+def plugin_metric(
+    pop: Population,
+    name: str,
+    arguments: dict[str, float],
+    *,
+    source: str | None,
+    package: str | None,
+    types: tuple[str, ...],
+    where: str,
+) -> np.ndarray:
+    """A user's metric (a ``metric`` term's plug-in, :mod:`mazegen.metric_plugins`) of every floor:
+    one finite value per valid floor, 0 for the invalid ones.
+
+    Raises:
+        MazeError: located at the term (``where``, ``file:line:col``) and naming the plug-in, when it
+            cannot be loaded, raises, or returns anything but one finite number per floor.
+    """
+    filename, line, col = where.rsplit(":", 2)
+
+    def failed(problem: str) -> MazeError:
+        return MazeError(f"metric {name!r}: {problem}", filename=filename, line=int(line), col=int(col))
+
+    try:
+        function = metric_function(name, source, package)
+    except MazeError as error:
+        raise failed(str(error).removeprefix(f"metric {name!r}: ")) from error
+    try:
+        values = function(Floors(pop, types), **arguments)
+    except MazeError:
+        raise
+    except (Exception, SystemExit) as error:  # the plug-in's own failure, in one line
+        raise failed(f"the plug-in raised {type(error).__name__}: {error}") from error
+    shape, kind = np.shape(values), np.asarray(values).dtype.kind
+    if shape != (pop.size,) or kind not in "biuf":
+        got = f"{np.asarray(values).dtype}{list(shape)}"
+        raise failed(f"the plug-in must return one number per floor, float64[{pop.size}], got {got}")
+    out = np.where(pop.valid, np.asarray(values, dtype=np.float64), 0.0)
+    bad = np.flatnonzero(~np.isfinite(out))
+    if bad.size:
+        raise failed(f"the plug-in returned {out[bad[0]]} for floor {int(bad[0])} (a value must be finite)")
+    return out

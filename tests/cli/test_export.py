@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import re
 import shutil
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -12,10 +14,10 @@ import yaml
 from click.testing import CliRunner
 
 import mazegen
-from mazegen.cli.export import FORMAT_NAMES
 from mazegen.cli.main import main
-from mazegen.runtime.exporters import FORMATS
+from mazegen.export_formats import BUNDLED, OPTIONS
 from mazegen.runtime.exporters.batch import export_plan
+from mazegen.runtime.exporters.floor import ExportOptions
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 
@@ -40,11 +42,14 @@ def files(directory: Path) -> dict[str, bytes]:
     }
 
 
-def test_the_cli_knows_every_format():
-    assert FORMAT_NAMES == tuple(FORMATS) == tuple(SUFFIXES)
+def test_every_format_has_a_row_whose_writer_and_options_exist():
+    assert list(BUNDLED) == list(SUFFIXES)
+    assert tuple(field.name for field in dataclasses.fields(ExportOptions)) == OPTIONS
+    for row in BUNDLED.values():
+        assert callable(row.load_writer()) and set(row.options) <= set(OPTIONS) and row.summary
 
 
-@pytest.mark.parametrize("fmt", FORMAT_NAMES)
+@pytest.mark.parametrize("fmt", list(BUNDLED))
 def test_a_run_directory_exports_every_best_scenario_the_same_way_twice(factory_run, tmp_path, fmt):
     out = tmp_path / "out"
     result = invoke("export", str(factory_run), "--format", fmt, "-o", str(out))
@@ -116,7 +121,8 @@ def test_user_mistakes_are_one_line_errors(factory_run, tmp_path):
          "--scale must be from 1e-06 to 1000 metres per arena unit, got 0"),
         (["export", str(alone), "-f", "svg", "--cell", "25"], 1,
          "--cell does not apply to svg exports (only to ros, movingai)"),
-        (["export", str(alone), "-f", "obj"], 2, "Invalid value for '-f' / '--format'"),
+        (["export", str(alone), "-f", "obj"], 1,
+         "unknown export format 'obj' (bundled: ros, gazebo, irsim, movingai, json, svg, png)"),
         (["export", str(tmp_path / "missing.json"), "-f", "svg"], 2, "does not exist"),
         (["report", str(tmp_path / "alone")], 1, "not a run, suite or sweep folder"),
     ]  # fmt: skip
@@ -169,7 +175,7 @@ def test_report_writes_one_page_and_keeps_an_existing_one(factory_run, tmp_path)
 HOSTILE_STEM = "we--ird\x01\t\n <&]]>\x7f"
 
 
-@pytest.mark.parametrize("fmt", FORMAT_NAMES)
+@pytest.mark.parametrize("fmt", list(BUNDLED))
 def test_a_hostile_file_name_gives_files_that_parse(factory_run, tmp_path, fmt):
     source = tmp_path / f"{HOSTILE_STEM}.json"
     shutil.copy(factory_run / "run-01" / "best-01.json", source)
@@ -198,7 +204,7 @@ def test_a_file_name_no_encoding_can_write_exports_that_parse(factory_run, tmp_p
     shutil.copy(factory_run / "run-01" / "best-01.json", source)
     spec = mazegen.load(EXAMPLES / "factory.maze")
     for fmt in ("gazebo", "ros", "movingai"):
-        files = export_plan(source, fmt, tmp_path / fmt, spec=spec)
+        files = export_plan(source, BUNDLED[fmt], tmp_path / fmt, spec=spec)
         assert {path.name for path in files} <= {f"best__[2J{suffix}" for suffix in SUFFIXES[fmt]}
         for path, data in files.items():
             if path.suffix == ".sdf":
@@ -207,3 +213,98 @@ def test_a_file_name_no_encoding_can_write_exports_that_parse(factory_run, tmp_p
                 assert yaml.safe_load(data)["image"] == "best__[2J.pgm"
             elif path.suffix == ".scen":
                 assert data.decode("utf-8").splitlines()[1].split("\t")[1] == "best__[2J.map"
+
+
+def webots_files(floor, options):
+    """A plug-in's writer: one text file per scenario, named after it."""
+    return {f"{floor.name}.wbt": f"# {floor.name} at {options.scale} m per unit\n"}
+
+
+webots_files.options = ("scale",)
+
+
+def test_a_registered_format_exports_like_a_bundled_one(factory_run, tmp_path, register_plugins):
+    register_plugins("exporters", {"webots": webots_files})
+    out = tmp_path / "out"
+    result = invoke("export", str(factory_run), "-f", "webots", "--scale", "0.5", "-o", str(out))
+    assert result.exit_code == 0, result.output
+    assert files(out)["run-02/best-03.wbt"] == b"# best-03 at 0.5 m per unit\n"
+    assert len(files(out)) == 8
+
+
+def _raises(floor, options):
+    raise RuntimeError("no Webots here")
+
+
+def _one_name(floor, options):
+    return {"world.wbt": b""}
+
+
+WEBOTS = "exporter plug-in 'webots' of fake-plugins 1.0"
+
+PLUGIN_MISTAKES = [
+    (_raises, f"{WEBOTS} fails (RuntimeError: no Webots here)"),
+    (lambda floor, options: [b""], f"{WEBOTS} returns list, not a dict of file names to bytes or str"),
+    (
+        lambda floor, options: {"../up.wbt": b""},
+        f"{WEBOTS} returns the file name '../up.wbt': a file's name, not a path",
+    ),
+    (
+        lambda floor, options: {"..": b""},
+        f"{WEBOTS} returns the file name '..': a file's name, not a path",
+    ),
+    (
+        lambda floor, options: {"a.wbt": 3},
+        f"{WEBOTS} returns int for 'a.wbt', not bytes or UTF-8 text",
+    ),
+    (
+        lambda floor, options: {"a.wbt": "\ud800"},
+        f"{WEBOTS} returns str for 'a.wbt', not bytes or UTF-8 text",
+    ),
+    (
+        _one_name,
+        f"{WEBOTS} writes 'world.wbt' for another scenario too "
+        "(name each file after the scenario: floor.name)",
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("writer", "message"),
+    PLUGIN_MISTAKES,
+    ids=["raises", "list", "path", "dot-dot", "int", "surrogate", "one-name"],
+)
+def test_a_plugin_writers_mistake_is_one_line_naming_it_and_nothing_is_written(
+    factory_run, tmp_path, register_plugins, writer, message
+):
+    register_plugins("exporters", {"webots": writer})
+    out = tmp_path / "out"
+    result = invoke("export", str(factory_run), "-f", "webots", "-o", str(out))
+    assert result.exit_code == 1
+    (line,) = result.stderr.splitlines()
+    assert line.startswith(str(factory_run / "run-01")) and line.endswith(message), line
+    assert not out.exists()
+
+
+def test_a_plugin_of_a_bundled_name_is_not_used_and_a_note_says_so(factory_run, tmp_path, register_plugins):
+    register_plugins("exporters", {"svg": _raises})
+    result = invoke("export", str(factory_run), "-f", "svg", "-o", str(tmp_path / "out"))
+    assert result.exit_code == 0, result.output
+    assert (
+        result.stderr
+        == "note: exporter plug-in 'svg' of fake-plugins 1.0 is not used: 'svg' is a bundled format\n"
+    )
+    assert (tmp_path / "out" / "run-01" / "best-01.svg").is_file()
+
+
+def test_docs_list_every_format_as_its_row_says():
+    """docs/exports.md's table of formats is the table of :data:`BUNDLED`: name, options, summary."""
+    page = (Path(__file__).resolve().parents[2] / "docs" / "exports.md").read_text(encoding="utf-8")
+    listed = re.findall(r"^\| `(\w+)` \| (.*) \| (.*) \|$", page, flags=re.M)
+    expected = [
+        (row.name, ", ".join(f"`--{option}`" for option in row.options) or "none", row.summary)
+        for row in BUNDLED.values()
+    ]
+    assert listed == expected
+    for name in BUNDLED:
+        assert re.search(rf"^## .*`{name}`", page, flags=re.M), f"docs/exports.md has no section on {name}"

@@ -12,8 +12,8 @@ from pathlib import Path
 import yaml
 from click.testing import CliRunner
 
-from mazegen.cli.export import FORMAT_NAMES
 from mazegen.cli.main import main
+from mazegen.export_formats import BUNDLED
 from tests.conftest import EXAMPLES
 from tests.runtime.scenario_mutants import mutant, whole_document, write
 
@@ -43,7 +43,7 @@ def outputs_parse(folder: Path) -> None:
 
 def test_mutated_scenarios_give_one_line_errors_or_files_that_parse(tmp_path):
     runner = CliRunner()
-    formats = itertools.cycle(FORMAT_NAMES)
+    formats = itertools.cycle(BUNDLED)
     for index, path in enumerate(mutants(tmp_path, 80)):
         out = tmp_path / f"out{index}"
         commands = [

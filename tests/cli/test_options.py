@@ -13,6 +13,7 @@ SEED_MAX = "9223372036854775807"
 HUGE = "99999999999999999999"
 EXPORT = ["export", FACTORY, "-f"]
 SCALES = "from 1e-06 to 1000 metres per arena unit"
+FORMATS = "bundled: ros, gazebo, irsim, movingai, json, svg, png"
 DIGITS_400 = "1" + "0" * 400
 """More digits than a float holds: still one short line."""
 
@@ -105,6 +106,7 @@ BAD_COMMAND_LINES = [
     ([*EXPORT, "gazebo", "--scale", "1e9"], f"--scale must be {SCALES}, got 1e+09"),
     ([*EXPORT, "gazebo", "--scale", "inf"], f"--scale must be {SCALES}, got inf"),
     ([*EXPORT, "ros", "--cell", "nan"], "--cell must be a positive number of arena units, got nan"),
+    ([*EXPORT, "rso"], f"unknown export format 'rso' (did you mean 'ros'?) ({FORMATS})"),
 ]
 """Known-bad command lines and the one line each must give (the source need not be read to refuse them)."""
 
@@ -120,6 +122,44 @@ def test_bad_command_lines_are_one_line_errors(tmp_path, monkeypatch, args, mess
     lines = result.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith(message), result.stderr
     assert list(tmp_path.iterdir()) == []
+
+
+def _webots_files(floor, options):
+    return {}
+
+
+_webots_files.options = ("scale",)
+
+
+def _dpi_files(floor, options):
+    return {}
+
+
+_dpi_files.options = ("dpi",)
+
+PLUGIN_COMMAND_LINES = [
+    (
+        [*EXPORT, "webot"],
+        f"unknown export format 'webot' (did you mean 'webots'?) ({FORMATS}; registered: dpi, webots)",
+    ),
+    ([*EXPORT, "webots", "--cell", "5"], "--cell does not apply to webots exports (only to ros, movingai)"),
+    (
+        [*EXPORT, "dpi"],
+        "exporter plug-in 'dpi' of fake-plugins 1.0 declares the options ('dpi',), "
+        "not a tuple of scale or cell",
+    ),
+]
+"""Known-bad command lines where packages register the export formats ``webots`` and ``dpi``."""
+
+
+@pytest.mark.parametrize(
+    ("args", "message"), PLUGIN_COMMAND_LINES, ids=[" ".join(args[2:]) for args, _ in PLUGIN_COMMAND_LINES]
+)
+def test_bad_command_lines_with_plugins_are_one_line_errors(
+    tmp_path, monkeypatch, register_plugins, args, message
+):
+    register_plugins("exporters", {"webots": _webots_files, "dpi": _dpi_files})
+    test_bad_command_lines_are_one_line_errors(tmp_path, monkeypatch, args, message)
 
 
 @pytest.mark.parametrize(

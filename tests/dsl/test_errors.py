@@ -20,6 +20,13 @@ def spec(*, arena: str = ARENA, element: str = ELEMENT, scenario: str = SCENARIO
     return element + arena + scenario + tail
 
 
+PLUGIN_FILES = {
+    "dock.py": "def dock_clearance(floors, x=0.0, y=0.0):\n    return floors.x[:, 0]\n",
+    "broken.py": "def dock_clearance(floors)\n    return 0\n",
+    "failing.py": "1 / 0\n\ndef dock_clearance(floors):\n    return 0\n",
+}
+"""Metric plug-in files beside every spec of the table."""
+
 # (name, text, expected line:col, expected message fragment)
 BAD_SPECS = [
     ("syntax: unknown keyword", "elemnt box { }\n", "1:1", "expected 'import', 'element'"),
@@ -736,11 +743,68 @@ BAD_SPECS = [
         "4:39",
         "expected 'used' or 'genome'",
     ),
+    (
+        "metric plug-in: not installed",
+        spec(tail="fitness { metric dock_clearence }\n"),
+        "4:11",
+        "unknown metric plug-in 'dock_clearence' (none is installed; or name the file that defines it: "
+        'metric dock_clearence from "FILE.py")',
+    ),
+    (
+        "metric plug-in: not in its file",
+        spec(tail='fitness { metric dock_clearence from "dock.py" }\n'),
+        "4:11",
+        "metric 'dock_clearence': dock.py defines no 'dock_clearence' (did you mean 'dock_clearance'?)",
+    ),
+    (
+        "metric plug-in: no such file",
+        spec(tail='fitness { metric dock_clearance from "dok.py" }\n'),
+        "4:11",
+        "metric 'dock_clearance': no file 'dok.py' (looked for ",
+    ),
+    (
+        "metric plug-in: its file is not Python",
+        spec(tail='fitness { metric dock_clearance from "broken.py" }\n'),
+        "4:11",
+        "metric 'dock_clearance': ",
+    ),
+    (
+        "metric plug-in: its file fails to run",
+        spec(tail='fitness { metric dock_clearance from "failing.py" }\n'),
+        "4:11",
+        "failing.py fails to run (ZeroDivisionError: division by zero)",
+    ),
+    (
+        "metric plug-in: an argument it does not take",
+        spec(tail='fitness { metric dock_clearance(z=1) from "dock.py" }\n'),
+        "4:11",
+        "metric 'dock_clearance': got an unexpected keyword argument 'z' (it takes x, y after the floors)",
+    ),
+    (
+        "metric plug-in: an argument given twice",
+        spec(tail='fitness { metric dock_clearance(x=1, x=2) from "dock.py" }\n'),
+        "4:38",
+        "metric 'dock_clearance': argument 'x' given twice",
+    ),
+    (
+        "metric plug-in: a negative penalty",
+        spec(tail='fitness { metric dock_clearance from "dock.py" penalty -1 }\n'),
+        "4:11",
+        "penalty must not be negative, got -1",
+    ),
+    (
+        "metric plug-in: two terms of one name",
+        spec(tail='fitness { metric dock_clearance from "dock.py" metric dock_clearance from "dock.py" }\n'),
+        "4:48",
+        "duplicate fitness term 'dock_clearance' (first given at ",
+    ),
 ]
 
 
 @pytest.mark.parametrize(("name", "text", "where", "fragment"), BAD_SPECS, ids=[row[0] for row in BAD_SPECS])
 def test_bad_spec_gives_located_message(write_spec, name, text, where, fragment):
+    for file, content in PLUGIN_FILES.items():
+        write_spec(content, file)
     path = write_spec(text)
     with pytest.raises(MazeError) as caught:
         load_spec(path)
@@ -750,6 +814,60 @@ def test_bad_spec_gives_located_message(write_spec, name, text, where, fragment)
     assert fragment in message
     assert "\n" not in message
     assert len(caught.value.message) < 300  # a huge token is quoted cut
+
+
+LIBRARY_PLUGIN = "library plug-in 'warehouse' of fake-plugins 1.0"
+
+# (name, what packages register as libraries, text, expected line:col, expected message)
+BAD_LIBRARY_PLUGINS = [
+    (
+        "a library plug-in that is no path",
+        [{"warehouse": 3}],
+        "import warehouse\n" + spec(),
+        "1:1",
+        f"{LIBRARY_PLUGIN} gives int, not the path of a .maze file",
+    ),
+    (
+        "a library plug-in naming no file",
+        [{"warehouse": "/nonexistent/warehouse.maze"}],
+        "import figures\nimport warehouse\n" + spec(),
+        "2:1",
+        f"{LIBRARY_PLUGIN} gives the path '/nonexistent/warehouse.maze', which is no file",
+    ),
+    (
+        "a library two packages register",
+        [{"warehouse": "/a.maze"}, {"warehouse": "/b.maze"}],
+        "import warehouse\n" + spec(),
+        "1:1",
+        "library plug-in 'warehouse' is registered by more than one package (fake-plugins 1.0, "
+        "fake-plugins 1.0): uninstall all but one",
+    ),
+    (
+        "an unknown library among registered ones",
+        [{"warehouse": "/a.maze"}],
+        "import wharehouse\n" + spec(),
+        "1:1",
+        "unknown library 'wharehouse' (did you mean 'warehouse'?) (bundled: figures, manufacturing; "
+        "registered: warehouse; import a file with a quoted path)",
+    ),
+]
+
+
+@pytest.mark.parametrize(
+    ("name", "registered", "text", "where", "message"),
+    BAD_LIBRARY_PLUGINS,
+    ids=[row[0] for row in BAD_LIBRARY_PLUGINS],
+)
+def test_a_bad_library_plugin_gives_a_message_at_the_import(
+    write_spec, register_plugins, name, registered, text, where, message
+):
+    for libraries in registered:
+        register_plugins("libraries", libraries)
+    path = write_spec(text)
+    with pytest.raises(MazeError) as caught:
+        load_spec(path)
+    assert str(caught.value) == f"{caught.value.filename}:{where}: {message}"
+    assert caught.value.filename.endswith("spec.maze")
 
 
 def test_missing_file_is_reported(tmp_path):

@@ -10,6 +10,7 @@ import shapely
 from shapely.geometry import Polygon
 
 import mazegen
+from mazegen.fitness_terms import reads_survey
 from mazegen.generator.build import fitness_lines
 from mazegen.spec import DIFFICULTY_LEVELS, Spec
 from tests.conftest import EXAMPLES
@@ -36,7 +37,7 @@ def test_new_terms_render_as_rewards_with_their_targets(tmp_path):
     assert lines["tortuosity"] == "2.0 * metrics.closeness(metrics.path_metric(pop, 'tortuosity'), 1.4, 2.0)"
     assert lines["diversity"] == "2.0 * metrics.distinct_types(pop)"
     assert {line.key for line in rejected} == {"overlap", "outside", "solvable"}
-    assert spec.reads_difficulty
+    assert reads_survey(spec)
     assert Spec.from_json(spec.to_json()) == spec
 
 

@@ -30,9 +30,9 @@ from mazegen.fileio import write_atomic
 from mazegen.runtime.documents.best import row_document
 from mazegen.runtime.documents.folders import SuiteDirectory
 from mazegen.runtime.documents.scenario import dumps
-from mazegen.runtime.engine import operators as ops
 from mazegen.runtime.engine.breeding import make_children
 from mazegen.runtime.engine.evolution import GenerationStats, generation_stats
+from mazegen.runtime.engine.operators import random_codons, random_genes
 from mazegen.runtime.engine.population import PLACEMENT_GENES
 from mazegen.runtime.engine.problem import Evaluation, Problem
 from mazegen.runtime.navigation.measures import survey_of
@@ -171,8 +171,8 @@ def fill_archive(
     settings = problem.spec.evolution
     rng = np.random.default_rng(seed)
     genome, slots = settings.genome, problem.slots
-    codons = ops.random_codons(rng, batch, genome, settings.codon_max)
-    genes = ops.random_genes(rng, batch, slots)
+    codons = random_codons(rng, batch, genome, settings.codon_max)
+    genes = random_genes(rng, batch, slots)
     archive = Archive(
         bins=bins or Bins.for_slots(slots), genome=genome, slots=slots, codon_dtype=codons.dtype
     )
@@ -190,8 +190,8 @@ def fill_archive(
                 map_usage=problem.usage,
             )
         elif iteration:  # nothing solvable yet: start afresh
-            codons = ops.random_codons(rng, batch, genome, settings.codon_max)
-            genes = ops.random_genes(rng, batch, slots)
+            codons = random_codons(rng, batch, genome, settings.codon_max)
+            genes = random_genes(rng, batch, slots)
         evaluation = problem.evaluate(codons, genes, searching=True)
         archive.offer(codons, genes, evaluation)
         if on_iteration is not None:

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
+from mazegen.fitness_terms import reads_survey
 from mazegen.runtime.documents.scenario_rules import check_document, read_json
 from mazegen.runtime.engine.population import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.runtime.geometry.elements import ElementTable, world_vertices
@@ -234,7 +235,7 @@ def population_from_documents(
         _place_elements(spec, document["elements"], ids[index], params[index], filename)
     count = np.array([len(document["elements"]) for _, document in documents], dtype=np.int32)
     valid = np.ones(len(documents), dtype=np.bool_)
-    return Population(ids, count, lambda: params, valid, table, spec.arena, spec.reads_difficulty)
+    return Population(ids, count, lambda: params, valid, table, spec.arena, reads_survey(spec))
 
 
 def _place_elements(

@@ -16,8 +16,8 @@ from collections.abc import Callable
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.engine import operators as ops
-from mazegen.runtime.engine import used_operators as uo
+import mazegen.runtime.engine.operators as ops
+import mazegen.runtime.engine.used_operators as uo
 from mazegen.runtime.engine.population import PLACEMENT_GENES
 from mazegen.runtime.engine.used_operators import Usage
 from mazegen.spec import Evolution

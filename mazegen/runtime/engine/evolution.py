@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from mazegen.runtime.engine import operators as ops
+import mazegen.runtime.engine.operators as ops
 from mazegen.runtime.engine.breeding import breed
 from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine.problem import Problem, Workspace

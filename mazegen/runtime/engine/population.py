@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numba import njit
 
+from mazegen.fitness_terms import reads_survey
 from mazegen.runtime.threads import in_blocks
 from mazegen.spec import Arena, Robot, Spec
 
@@ -238,7 +239,7 @@ def decode(
         mapped.valid,
         table,
         spec.arena,
-        spec.reads_difficulty,
+        reads_survey(spec),
         spec.robot,
         searching,
     )

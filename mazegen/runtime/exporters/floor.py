@@ -6,7 +6,7 @@ The scenario an export reads is a :class:`~mazegen.runtime.documents.floor.Floor
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -68,4 +68,4 @@ class ExportOptions:
 
     def given(self) -> list[str]:
         """The names of the options set (``["cell"]``)."""
-        return [name for name in ("scale", "cell") if getattr(self, name) is not None]
+        return [field.name for field in fields(self) if getattr(self, field.name) is not None]

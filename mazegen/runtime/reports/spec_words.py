@@ -8,7 +8,9 @@ apply: a truncation spec has no tournament size.
 
 from __future__ import annotations
 
-from mazegen.spec import DIFFICULTY_LEVELS, Arena, Evolution, FitnessTerm, Scenario, Spec
+from mazegen.fitness_terms import term_kind
+from mazegen.spec import Arena, Evolution, FitnessTerm, Scenario, Spec
+from mazegen.text import number
 
 _INDENT = "    "
 SUITE_EVOLUTION = ("genome", "crossover", "mutation", "codons", "wraps", "consume")
@@ -17,48 +19,9 @@ and maps genomes by them); its seed, batches and their size are its own, and it 
 keeps elites, counts runs nor keeps a best."""
 
 
-def number(value: float) -> str:
-    """A number as the language writes it: ``1400`` rather than ``1400.0``, ``0.05`` as is."""
-    return str(int(value)) if float(value).is_integer() and abs(value) < 1e15 else repr(float(value))
-
-
-def _span(low: float, high: float) -> str:
-    return f"{number(low)}..{number(high)}"
-
-
-def _weighted(words: str, weight: float) -> str:
-    return words if weight == 1.0 else f"{words} weight {number(weight)}"
-
-
-def _penalty(weight: float) -> str:
-    return f"penalty {number(weight)}"
-
-
 def term_words(term: FitnessTerm) -> str:
     """One fitness term as the ``fitness`` block writes it: ``overlap penalty 0.5``."""
-    low, high = term.target or (0.0, 0.0)
-    if term.kind == "count":
-        return _weighted("count", term.weight)
-    if term.kind == "overlap":
-        return "overlap reject" if term.reject else f"overlap {_penalty(term.weight)}"
-    if term.kind == "size_limit":
-        return f"size limit {number(term.limit or 0.0)} {'reject' if term.reject else _penalty(term.weight)}"
-    if term.kind == "outside":
-        if term.reject:
-            return "outside reject"
-        return "outside allow" if term.weight == 0 else f"outside {_penalty(term.weight)}"
-    if term.kind == "solvable":
-        return "solvable required" if term.reject else f"solvable {_penalty(term.weight)}"
-    if term.kind == "difficulty":
-        levels = {span: level for level, span in DIFFICULTY_LEVELS.items()}
-        level = levels.get((low, high))
-        return _weighted(
-            f"difficulty target {level}" if level else f"difficulty {_span(low, high)}", term.weight
-        )
-    if term.kind == "diversity":
-        return _weighted("diversity entropy" if term.metric == "entropy" else "diversity", term.weight)
-    name = term.metric if term.kind == "metric" and term.metric else term.kind  # a metric, or coverage
-    return _weighted(f"{name} {_span(low, high)}", term.weight)
+    return term_kind(term).words(term)
 
 
 def evolution_words(evolution: Evolution, *, only: tuple[str, ...] | None = None) -> list[str]:

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mazegen.fitness_terms import term_kind
 from mazegen.runtime.engine.evolution import EVALUATION_CHUNK
 from mazegen.runtime.engine.problem import REJECTED, Problem
 from mazegen.runtime.documents.folders import RunDirectory
@@ -102,18 +103,4 @@ def cause_text(spec: Spec, cause: Cause) -> str:
     term = next((term for term in spec.fitness if term.reject and term.key == cause.key), None)
     if term is None:  # a verdict an edited fitness.py added
         return f"rejected by {cause.key} (fitness.py)"
-    if term.kind == "outside":
-        return (
-            "rejected by outside reject: elements not wholly inside the arena "
-            "(are they larger than the arena, or placed beyond it?)"
-        )
-    if term.kind == "overlap":
-        return (
-            "rejected by overlap reject: elements overlap one another (too many or too large for the arena?)"
-        )
-    if term.kind == "size_limit":
-        return f"rejected by size limit {term.limit:g} reject: elements larger than the limit"
-    return (
-        "rejected by solvable required: no path from start to goal for the robot "
-        "(are the gaps narrower than the robot, or start or goal covered?)"
-    )
+    return f"rejected by {term_kind(term).words(term)}: {term_kind(term).rejects}"

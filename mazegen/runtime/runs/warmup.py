@@ -26,6 +26,7 @@ import threading
 
 import numpy as np
 
+from mazegen.fitness_terms import reads_survey
 from mazegen.runtime import metrics
 from mazegen.runtime.engine.cache import genome_hashes
 from mazegen.runtime.navigation.connectivity import reach
@@ -135,7 +136,7 @@ def compile_path_kernels(spec: Spec) -> None:
         table=ElementTable.from_types(types),
         arena=spec.arena,
     )
-    if not spec.reads_difficulty:  # else the survey answers solvability too
+    if not reads_survey(spec):  # else the survey answers solvability too
         reach(floors, grid_of(spec.arena))  # first: the evolution in the other process needs it soonest
     survey(floors)
     paths_of(floors, grid_of(spec.arena))  # the corners every scenario file records

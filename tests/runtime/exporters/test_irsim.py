@@ -17,8 +17,8 @@ import shapely
 
 import mazegen
 from mazegen.errors import MazeError
+from mazegen.export_formats import BUNDLED
 from mazegen.runtime.documents.floor import Floor, load_floor
-from mazegen.runtime.exporters import check_options
 from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.exporters.irsim import floor_robot, irsim_files
 from mazegen.runtime.simulation._lidar import beam_angles
@@ -156,7 +156,7 @@ def test_same_scenario_same_bytes(factory_run):
 
 def test_cell_is_refused():
     with pytest.raises(MazeError, match="--cell does not apply to irsim exports"):
-        check_options("irsim", ExportOptions(cell=5.0))
+        BUNDLED["irsim"].check_options(ExportOptions(cell=5.0).given())
 
 
 def test_cli_refuses_cell_and_a_floor_without_robot_radius_in_one_line(tmp_path):
