@@ -32,8 +32,8 @@ from common import ROOT, markdown_table, median_seconds
 
 sys.path.insert(0, str(ROOT))  # the oracle's floors and replay live with its test
 
+from mazegen.runtime.documents.floor import EXPORT_METRES_PER_UNIT
 from mazegen.runtime.engine.population import Population
-from mazegen.runtime.exporters.floor import METRES_PER_UNIT
 from mazegen.runtime.simulation import NO_PATH, Observations, drive
 from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import Robot, robot_for
@@ -101,7 +101,7 @@ def irsim_rows(
 ) -> list[dict]:
     """One row per lidar setting: both simulators' robot-steps per second on the first ``floors``
     valid floors of ``population`` (IR-SIM on ``sample`` of those with a path), and their ratio."""
-    arena, metres = population.arena, METRES_PER_UNIT[population.arena.unit]
+    arena, metres = population.arena, EXPORT_METRES_PER_UNIT[population.arena.unit]
     chosen = np.flatnonzero(population.valid)[:floors]
     episodes, recording = drive_recording(population, indices=chosen)
     driven = chosen[episodes.outcome != NO_PATH]

@@ -28,7 +28,7 @@ from mazegen.text import printable
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents.driving import Drive, Floors, Summary
-    from mazegen.runtime.exporters.floor import Floor
+    from mazegen.runtime.documents.floor import Floor
     from mazegen.spec import Spec
 
 
@@ -104,7 +104,7 @@ def drive(
     names = controller_names(controllers)
     from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
     from mazegen.runtime.documents.driving import Floors, summaries
-    from mazegen.runtime.exporters.batch import scenario_files
+    from mazegen.runtime.documents.folders import scenario_files
     from mazegen.runtime.runs.locks import folder_in_use
 
     resolved = _load_spec(spec)
@@ -151,7 +151,7 @@ def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[lis
     its arena); one that cannot be is reported on one line and left out (a lone file's error ends
     the command). A floor with a start and goal of its own is driven on them, with a note."""
     from mazegen.runtime.documents.driving import driving_robot
-    from mazegen.runtime.exporters.floor import load_floor
+    from mazegen.runtime.documents.floor import load_floor
 
     floors, failed = [], False
     for path, _ in files:

@@ -19,7 +19,6 @@ import click
 from mazegen.cli.drive import controller_names, controller_option
 from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.errors import MazeError
-from mazegen.fileio import found_files
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents.scoring import Scored
@@ -46,13 +45,14 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
     from mazegen.dsl.loader import load_spec
     from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
     from mazegen.runtime.documents.driving import driving_robot, spec_controllers
+    from mazegen.runtime.documents.folders import scenario_files
     from mazegen.runtime.documents.scoring import Scorer
 
     resolved = load_spec(spec)
     names = spec_controllers(resolved) if names is None else names
     if names:
         driving_robot(resolved, str(spec))
-    files = scenario_files(scenarios)
+    files = [file for path in scenarios for file, _ in scenario_files(path, any_folder=True)]
     scored: list[Scored] = []
     failed = False
     say = partial(click.echo, err=True)
@@ -76,43 +76,6 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
         click.echo(score_table(scored))
     if failed:
         raise SystemExit(1)
-
-
-def scenario_files(paths: tuple[Path, ...]) -> list[Path]:
-    """The files to score: each file given, and every scenario file below each folder given, in
-    name order (hidden files, JSON files of another format such as ``experiment.json``, and entries
-    that are not regular files, are left out).
-
-    Raises:
-        MazeError: for a folder without a scenario file.
-    """
-    files: list[Path] = []
-    for path in paths:
-        if not path.is_dir():
-            files.append(path)
-            continue
-        found = [
-            file
-            for file in found_files(path, "**/*.json")
-            if not any(part.startswith(".") for part in file.relative_to(path).parts)
-            and _may_be_scenario(file)
-        ]
-        if not found:
-            raise MazeError("no scenario files in this folder", filename=str(path))
-        files.extend(found)
-    return files
-
-
-def _may_be_scenario(path: Path) -> bool:
-    """False for JSON files of another format; a file that cannot be read stays, to be reported."""
-    from mazegen.runtime.documents.scenario import FORMAT
-    from mazegen.runtime.documents.scenario_rules import read_json
-
-    try:
-        document = read_json(path)  # bounded: a huge or deep file in the folder is refused, not loaded
-    except MazeError:
-        return True
-    return not isinstance(document, dict) or document.get("format") == FORMAT
 
 
 def score_table(scored: list[Scored]) -> str:

@@ -423,7 +423,7 @@ def test_out_holds_the_folder_so_a_second_drive_into_it_is_refused_and_loses_not
     factory_run, tmp_path, monkeypatch
 ):
     from mazegen.runtime.runs import locks
-    from mazegen.runtime.runs.results import RunDirectory
+    from mazegen.runtime.runs.results import RunDirectoryWriter
 
     if locks.fcntl is None:
         pytest.skip("folders are locked with flock")
@@ -431,7 +431,7 @@ def test_out_holds_the_folder_so_a_second_drive_into_it_is_refused_and_loses_not
     run = tmp_path / "run"
     shutil.copytree(factory_run, run)
     before = {path: path.read_bytes() for path in run.rglob("*") if path.is_file()}
-    held = RunDirectory(run)
+    held = RunDirectoryWriter(run)
     held.lock()  # another mazegen process (a drive, a resume) writing there now
     refused = invoke(str(run), "-c", "dwa", "-o", str(run))
     held.close()
@@ -441,7 +441,7 @@ def test_out_holds_the_folder_so_a_second_drive_into_it_is_refused_and_loses_not
 
     def another_drive_meanwhile(*args, **kwargs):  # while this drive reads, drives and writes
         with pytest.raises(MazeError, match="in use by another mazegen process"):
-            RunDirectory(run).lock()
+            RunDirectoryWriter(run).lock()
         return fake(*args, **kwargs)
 
     monkeypatch.setattr(simulation, "drive", another_drive_meanwhile)

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from mazegen.runtime.runs.checkpoint import RunState, checkpoint_bytes, read_checkpoint
-from mazegen.runtime.runs.results import RunDirectory
+from mazegen.runtime.runs.results import RunDirectoryWriter
 from tests.runtime.rundirs import Killed, file_digests, invoke, small_run
 
 
@@ -26,7 +26,7 @@ def killed_at_the_end(tmp_path_factory) -> Path:
     """A run directory killed as it ended: each run keeps its last two checkpoints (generations 2, 3)."""
     out = tmp_path_factory.mktemp("killed") / "run"
     with pytest.MonkeyPatch.context() as patched:
-        patched.setattr(RunDirectory, "drop_checkpoints", lambda self: (_ for _ in ()).throw(Killed()))
+        patched.setattr(RunDirectoryWriter, "drop_checkpoints", lambda self: (_ for _ in ()).throw(Killed()))
         with pytest.raises(Killed):
             small_run(out, checkpoint_every=1)
     return out

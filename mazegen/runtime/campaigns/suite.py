@@ -28,6 +28,7 @@ import numpy as np
 
 from mazegen.fileio import write_atomic
 from mazegen.runtime.documents.best import row_document
+from mazegen.runtime.documents.folders import SuiteDirectory
 from mazegen.runtime.documents.scenario import dumps
 from mazegen.runtime.engine.breeding import make_children
 from mazegen.runtime.engine.evolution import GenerationStats, generation_stats
@@ -275,10 +276,11 @@ def write_suite(
     }  # fmt: skip
     chosen = np.array([d["origin"]["suite"]["cell"] for d in documents], np.int64)
     with staged_directory(out_dir, force=force) as stage:
-        write_atomic(stage / "spec.json", problem.spec.to_json())
-        write_atomic(stage / "archive.json", json_text(record))
-        write_atomic(stage / "archive.png", archive_heatmap(archive, chosen, problem.spec.name))
+        suite = SuiteDirectory(stage)
+        write_atomic(suite.spec, problem.spec.to_json())
+        write_atomic(suite.archive, json_text(record))
+        write_atomic(suite.heatmap, archive_heatmap(archive, chosen, problem.spec.name))
         for number, document in enumerate(documents, start=1):
-            name = f"scenario-{number:02d}.json"
+            name = SuiteDirectory.scenario_name(number, ".json")
             write_atomic(stage / name, dumps(document, str(out_dir / name)))
-            write_atomic(stage / f"scenario-{number:02d}.svg", scenario_svg(document))
+            write_atomic(stage / SuiteDirectory.scenario_name(number, ".svg"), scenario_svg(document))

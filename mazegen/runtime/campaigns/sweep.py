@@ -278,12 +278,12 @@ def _what_runs(spec: Spec) -> tuple[Any, ...]:
 def _state(run_dir: Path, spec: Spec) -> str:
     if not run_dir.is_dir() or not any(run_dir.iterdir()):
         return "new"
-    written = run_dir / "experiment" / "spec.json"
+    from mazegen.runtime.documents.folders import RunDirectory  # NumPy: only once a sweep runs
+
+    written = RunDirectory(run_dir).spec
     if not written.is_file() or written.read_text(encoding="utf-8") != spec.to_json():
         raise MazeError(
             f"this cell's directory holds another experiment (use {option('force')} to replace it)",
             filename=str(run_dir),
         )
-    from mazegen.runtime.runs.results import RunDirectory  # NumPy and the kernels: only once a sweep runs
-
     return "finished" if RunDirectory(run_dir).finished else "resume"

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from mazegen.errors import MazeError
+from mazegen.runtime.documents.folders import RunDirectory
 
 if TYPE_CHECKING:  # the catalog itself needs neither NumPy nor numba
     from mazegen.runtime.engine.evolution import RunResult
@@ -296,8 +297,8 @@ class Catalog:
                 experiment,
                 run,
                 rank,
-                self.relative(run_path / f"best-{rank:02d}.json"),
-                self.relative(run_path / f"best-{rank:02d}.svg"),
+                self.relative(run_path / RunDirectory.best_name(rank, ".json")),
+                self.relative(run_path / RunDirectory.best_name(rank, ".svg")),
                 document["fitness"],
                 len(document["elements"]),
                 int(document["valid"]),

@@ -43,10 +43,11 @@ MAX_SECONDS = 1e9
 """Longest time of a drive, in seconds."""
 DRIVE_OUTCOMES = ("arrived", "collision", "timeout", "no path")
 """How a drive ended: the simulator's outcomes (a floor without a path is not driven: ``no path``)."""
-MIN_LENGTH = 1e-4
+MIN_DOCUMENT_LENGTH = 1e-4
 """Smallest size, in arena units: documents round to 4 decimals, so a smaller one is written as 0."""
-MAX_LENGTH = 1e9
-"""Largest size and coordinate, in arena units."""
+MAX_DOCUMENT_LENGTH = 1e9
+"""Largest size and coordinate a document holds, in arena units (a spec's lengths stay below
+:data:`mazegen.dsl.bounds.MAX_LENGTH`)."""
 MAX_NAME = 200
 """Longest name (scenario, arena, element type and class, term)."""
 UNITS = ("mm", "cm", "m", "px")
@@ -115,8 +116,8 @@ class Mapping:
 
 Rule = Number | Text | Flag | Items | Fields | Mapping
 
-LENGTH = Number(low=MIN_LENGTH, high=MAX_LENGTH)
-COORDINATE = Number(low=-MAX_LENGTH, high=MAX_LENGTH)
+LENGTH = Number(low=MIN_DOCUMENT_LENGTH, high=MAX_DOCUMENT_LENGTH)
+COORDINATE = Number(low=-MAX_DOCUMENT_LENGTH, high=MAX_DOCUMENT_LENGTH)
 POINT = Items(COORDINATE, least=2, most=2)
 MEASURE = Number(null=True)
 COUNT = Number(low=0, integer=True)
@@ -134,7 +135,7 @@ DOCUMENT = Fields(
                 "unit": Text(choices=UNITS),
                 "start": POINT,
                 "goal": POINT,
-                "robot_radius": Number(low=0, high=MAX_LENGTH),
+                "robot_radius": Number(low=0, high=MAX_DOCUMENT_LENGTH),
             }
         ),
         "elements": Items(
@@ -179,8 +180,8 @@ DOCUMENT = Fields(
                 {
                     "outcome": Text(choices=DRIVE_OUTCOMES),
                     "time": Number(low=0, high=MAX_SECONDS),
-                    "distance": Number(low=0, high=MAX_LENGTH),
-                    "clearance": Number(low=0, high=MAX_LENGTH, null=True),
+                    "distance": Number(low=0, high=MAX_DOCUMENT_LENGTH),
+                    "clearance": Number(low=0, high=MAX_DOCUMENT_LENGTH, null=True),
                     "optimal_time": Number(low=0, high=MAX_SECONDS, null=True),
                     "score": Number(low=0, high=0.5),
                     "stuck": Flag(),

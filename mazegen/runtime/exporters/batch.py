@@ -8,34 +8,12 @@ from typing import Any
 
 from mazegen.errors import MazeError
 from mazegen.export_formats import ExportFormat
-from mazegen.fileio import found_files, write_atomic
-from mazegen.runtime.exporters.floor import ExportOptions, Floor, load_floor
+from mazegen.fileio import write_atomic
+from mazegen.runtime.documents.floor import Floor, load_floor
+from mazegen.runtime.documents.folders import scenario_files
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.spec import Spec
 from mazegen.text import quoted
-
-
-def scenario_files(source: Path) -> list[tuple[Path, Path]]:
-    """The scenario files ``source`` names, each with the sub-directory its exports go to.
-
-    A file is itself; a run directory gives ``run-NN/best-KK.json`` (exports in
-    ``run-NN/``), a suite directory its ``scenario-NN.json`` (regular files only: see
-    :func:`~mazegen.fileio.found_files`).
-
-    Raises:
-        MazeError: For a directory that is neither a run nor a suite directory.
-    """
-    if not source.is_dir():
-        return [(source, Path())]
-    best = found_files(source, "run-*/best-*.json")
-    if best:
-        return [(path, Path(path.parent.name)) for path in best]
-    suite = found_files(source, "scenario-*.json")
-    if suite:
-        return [(path, Path()) for path in suite]
-    raise MazeError(
-        "not a run or suite directory (it has no run-NN/best-KK.json nor scenario-NN.json)",
-        filename=str(source),
-    )
 
 
 def default_out_dir(source: Path, fmt: str) -> Path:
@@ -54,7 +32,8 @@ def export_plan(
     """Every file an export of ``source`` writes, by path, made before anything is written.
 
     Args:
-        source: A scenario file, or a run or suite directory.
+        source: A scenario file, or a run or suite directory (see
+            :func:`~mazegen.runtime.documents.folders.scenario_files`).
         fmt: The format (:func:`~mazegen.export_formats.export_format`).
         out_dir: The directory to write into.
         spec: The scenarios' spec, if not found beside them.

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from mazegen.runtime.documents.floor import Floor
 from mazegen.runtime.documents.scenario import dumps
-from mazegen.runtime.exporters.floor import ExportOptions, Floor
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.reports.render import scenario_png, scenario_svg
 
 

@@ -19,7 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from mazegen.runtime.exporters.floor import ExportOptions, Floor, rectangle_of, safe_name
+from mazegen.runtime.documents.floor import Floor, safe_name
+from mazegen.runtime.exporters.floor import ExportOptions, rectangle_of
 from mazegen.runtime.reports.render import rgb
 
 SDF_VERSION = "1.6"

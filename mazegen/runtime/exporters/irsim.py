@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.runtime.exporters.floor import ExportOptions, Floor, rectangle_of, safe_name, yaml_number
+from mazegen.runtime.documents.floor import Floor, safe_name
+from mazegen.runtime.exporters.floor import ExportOptions, rectangle_of, yaml_number
 from mazegen.runtime.exporters.gazebo import WALL_THICKNESS
 from mazegen.spec import Arena, Robot, robot_for
 

@@ -18,7 +18,8 @@ import numpy as np
 from numba import njit
 
 from mazegen.runtime.compiling import inner_kernel
-from mazegen.runtime.exporters.floor import ExportOptions, Floor
+from mazegen.runtime.documents.floor import Floor
+from mazegen.runtime.exporters.floor import ExportOptions
 
 SQRT2 = math.sqrt(2.0)
 

@@ -1,8 +1,8 @@
 """ROS and ROS 2 occupancy maps: a PGM image and the YAML that ``map_server`` loads.
 
 The image is the engine's own occupancy grid (the cells the elements touch, see
-:meth:`Floor.occupancy`), one pixel per cell, framed by one occupied cell on each
-side for the arena's edge, which the engine never lets the robot cross. Pixels
+:meth:`~mazegen.runtime.documents.floor.Floor.occupancy`), one pixel per cell, framed by one
+occupied cell on each side for the arena's edge, which the engine never lets the robot cross. Pixels
 are 0 (occupied) or 254 (free); 205 (unknown) is never written, and the YAML's
 thresholds read it back as unknown, not free. Lengths are metres whatever the
 arena's unit, and the map frame is the arena's: its lower-left corner at (0, 0).
@@ -14,7 +14,8 @@ import json
 
 import numpy as np
 
-from mazegen.runtime.exporters.floor import ExportOptions, Floor, safe_name, yaml_number
+from mazegen.runtime.documents.floor import Floor, safe_name
+from mazegen.runtime.exporters.floor import ExportOptions, yaml_number
 
 OCCUPIED = 0
 FREE = 254

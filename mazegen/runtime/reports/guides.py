@@ -15,13 +15,13 @@ from typing import Any
 from mazegen.runtime.reports.scene import (
     ENDINGS,
     FILL_OPACITY,
-    GOAL,
+    GOAL_COLOUR,
     INK,
     MARKER_OPACITY,
-    NO_PATH,
-    PATH,
+    NO_PATH_COLOUR,
+    PATH_COLOUR,
     RGB,
-    START,
+    START_COLOUR,
     Point,
     Scene,
     Shape,
@@ -106,12 +106,12 @@ def legend(
         ("rect", f"{label(kind, chars - len(str(count)) - 3)} ({count})", colours[kind])
         for kind, count in sorted(types.items())
     ]
-    entries += [("circle", "start", START), ("circle", "goal", GOAL)]
+    entries += [("circle", "start", START_COLOUR), ("circle", "goal", GOAL_COLOUR)]
     if scene.path:
         travelled = sum(math.dist(a, b) for a, b in itertools.pairwise(scene.path))
-        entries.append(("line", f"path ({_with_unit(travelled, scene.arena.unit)})", PATH))
+        entries.append(("line", f"path ({_with_unit(travelled, scene.arena.unit)})", PATH_COLOUR))
     elif scene.unsolvable:
-        entries.append(("line", "no path", NO_PATH))
+        entries.append(("line", "no path", NO_PATH_COLOUR))
     entries += [
         (drive.ending[0] if drive.ending else "line", f"{drive.controller}: {drive.outcome}", drive.colour)
         for drive in scene.drives

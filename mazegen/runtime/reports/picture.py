@@ -22,13 +22,13 @@ from mazegen.errors import MazeError
 from mazegen.runtime.reports.guides import axes, legend, longest_label, scale_bar
 from mazegen.runtime.reports.scene import (
     FILL_OPACITY,
-    GOAL,
+    GOAL_COLOUR,
     INK,
     MARKER_OPACITY,
-    NO_PATH,
+    NO_PATH_COLOUR,
     PAPER,
-    PATH,
-    START,
+    PATH_COLOUR,
+    START_COLOUR,
     WHITE,
     Element,
     Picture,
@@ -91,11 +91,17 @@ def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> l
     shapes = [_element(element, at, u) for element in scene.elements]
     if scene.path:
         shapes.append(
-            Shape("polyline", tuple(at(p) for p in scene.path), stroke=PATH, width=2.5 * u, group="elements")
+            Shape(
+                "polyline",
+                tuple(at(p) for p in scene.path),
+                stroke=PATH_COLOUR,
+                width=2.5 * u,
+                group="elements",
+            )
         )
     shapes += _trajectories(scene, at, u)
     radius = max(3.0, k * scene.arena.robot_radius)
-    for point, colour in ((scene.arena.start, START), (scene.arena.goal, GOAL)):
+    for point, colour in ((scene.arena.start, START_COLOUR), (scene.arena.goal, GOAL_COLOUR)):
         shapes.append(
             Shape(
                 "circle",
@@ -160,17 +166,17 @@ def _no_path_mark(start: Point, goal: Point, u: float, font: float) -> list[Shap
         ends = tuple(
             (start[0] + t * (goal[0] - start[0]), start[1] + t * (goal[1] - start[1])) for t in (a, b)
         )
-        shapes.append(Shape("line", ends, stroke=NO_PATH, width=2.5 * u, group="no-path"))
+        shapes.append(Shape("line", ends, stroke=NO_PATH_COLOUR, width=2.5 * u, group="no-path"))
     mx, my = (start[0] + goal[0]) / 2, (start[1] + goal[1]) / 2
     half = 2.6 * font
     box = ((mx - half, my - 0.9 * font), (mx + half, my + 0.7 * font))
     return [
         *shapes,
-        Shape("rect", box, WHITE, NO_PATH, 0.9, 1.5 * u, group="no-path"),
+        Shape("rect", box, WHITE, NO_PATH_COLOUR, 0.9, 1.5 * u, group="no-path"),
         Shape(
             "text",
             ((mx, my + 0.35 * font),),
-            fill=NO_PATH,
+            fill=NO_PATH_COLOUR,
             width=font,
             text="no path",
             anchor="middle",

@@ -27,7 +27,8 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
 from mazegen.errors import MazeError
-from mazegen.fileio import found_files, json_value, read_text
+from mazegen.fileio import json_value, read_text
+from mazegen.runtime.documents.folders import RunDirectory
 from mazegen.runtime.documents.scenario import read_document
 from mazegen.runtime.reports.report_html import (
     Saved,
@@ -49,8 +50,9 @@ _RUN_SECONDS = "seconds: wall-clock time of the run's generations, compiling the
 
 
 @dataclass(frozen=True)
-class RunDirectory:
-    """What the report reads from a run directory.
+class RunContents:
+    """What the report reads from a run directory (laid out as
+    :class:`~mazegen.runtime.documents.folders.RunDirectory` says).
 
     Attributes:
         path: The run directory.
@@ -84,24 +86,23 @@ def _json(path: Path, what: str) -> dict[str, Any]:
     return data
 
 
-def read_run(path: Path) -> RunDirectory:
+def read_run(path: Path) -> RunContents:
     """Read a run directory written by ``mazegen run``.
 
     Raises:
         MazeError: For a directory that is not a run directory, or a damaged file in it.
     """
-    if not (path / "experiment.json").is_file():
+    layout = RunDirectory(path)
+    if not layout.record.is_file():
         raise MazeError("not a run directory (no experiment.json)", filename=str(path))
-    if not (path / "stats.csv").is_file():
+    if not layout.stats.is_file():
         raise MazeError("not a finished run directory (no stats.csv)", filename=str(path))
-    experiment = _json(path / "experiment.json", "experiment.json")
-    if experiment.get("format") != "mazegen-run":
-        raise MazeError(
-            'not a run record (expected "format": "mazegen-run")', filename=str(path / "experiment.json")
-        )
-    spec_path = path / "experiment" / "spec.json"
-    spec = read_spec(spec_path) if spec_path.is_file() else None
-    stats = _rows(path / "stats.csv")
+    experiment = _json(layout.record, "experiment.json")
+    wanted = RunDirectory.RECORD_FORMAT
+    if experiment.get("format") != wanted:
+        raise MazeError(f'not a run record (expected "format": "{wanted}")', filename=str(layout.record))
+    spec = read_spec(layout.spec) if layout.spec.is_file() else None
+    stats = _rows(layout.stats)
     needed = {"run", "generation", *STATISTICS}
     counted = all(row["run"].isdigit() and row["generation"].isdigit() for row in stats)
     if not stats or not needed <= set(stats[0]) or not counted:
@@ -109,13 +110,12 @@ def read_run(path: Path) -> RunDirectory:
             f"damaged stats.csv (want the columns {', '.join(sorted(needed))})", filename=str(path)
         )
     scenarios = []
-    for file in found_files(path, "run-*/best-*.json"):
-        number, rank = file.parent.name.removeprefix("run-"), file.stem.removeprefix("best-")
-        if number.isdigit() and rank.isdigit():
-            scenarios.append(
-                (int(number), Saved(f"run {int(number)}, #{int(rank)}", file, read_document(file)))
-            )
-    return RunDirectory(path, experiment, spec, stats, _seconds(path, stats), scenarios)
+    for file in layout.best_files():
+        ranked = RunDirectory.best_rank(file)
+        if ranked is not None:
+            number, rank = ranked
+            scenarios.append((number, Saved(f"run {number}, #{rank}", file, read_document(file))))
+    return RunContents(path, experiment, spec, stats, _seconds(layout, stats), scenarios)
 
 
 def read_spec(path: Path) -> Spec:
@@ -134,12 +134,12 @@ def _rows(path: Path) -> list[dict[str, str]]:
     return list(csv.DictReader(io.StringIO(read_text(path, path.name))))
 
 
-def _seconds(path: Path, stats: list[dict[str, str]]) -> dict[int, float]:
+def _seconds(layout: RunDirectory, stats: list[dict[str, str]]) -> dict[int, float]:
     """Wall-clock seconds of each run: the ``seconds`` of ``stats.csv``, or else of ``timing.csv``."""
     if "seconds" in stats[0]:
         rows = stats
-    elif (path / "timing.csv").is_file():
-        rows = _rows(path / "timing.csv")
+    elif layout.timing.is_file():
+        rows = _rows(layout.timing)
     else:
         return {}
     totals: dict[int, float] = {}
@@ -156,7 +156,7 @@ def _number(text: str) -> float:
         raise MazeError(f"damaged statistics: {text!r} is not a number") from None
 
 
-def statistic_table(run: RunDirectory, statistic: str) -> np.ndarray:
+def statistic_table(run: RunContents, statistic: str) -> np.ndarray:
     """``float64[runs, generations]`` of one statistic, NaN where a run has no value."""
     runs = run.runs
     generations = 1 + max(int(row["generation"]) for row in run.stats)
@@ -173,7 +173,7 @@ def _svg_bytes(figure: Figure) -> bytes:
     return buffer.getvalue()
 
 
-def fitness_chart(run: RunDirectory) -> bytes:
+def fitness_chart(run: RunContents) -> bytes:
     """SVG chart of best, mean and median fitness per generation (mean and range across runs)."""
     figure = Figure(figsize=(8, 4), dpi=100)
     axes = figure.subplots()
@@ -224,7 +224,7 @@ def distribution_chart(documents: list[dict[str, Any]]) -> bytes:
     return _svg_bytes(figure)
 
 
-def _settings(run: RunDirectory) -> str:
+def _settings(run: RunContents) -> str:
     record = run.experiment
     versions = sorted(record.get("versions", {}).items())
     rows = [("scenario", record.get("scenario")), ("source", record.get("source")), ("runs", len(run.runs))]
@@ -235,7 +235,7 @@ def _settings(run: RunDirectory) -> str:
     return f'<div class="tables">{experiment}</div>{spec}'
 
 
-def _runs_table(run: RunDirectory) -> str:
+def _runs_table(run: RunContents) -> str:
     head = "<tr><th>run</th><th>final best</th><th>final mean</th><th>scenarios</th><th>with a path</th>"
     head += "<th>seconds</th></tr>"
     rows = []
@@ -256,7 +256,7 @@ def _duration(seconds: float) -> str:
     return f"{seconds:.0f}" if seconds >= 100 else f"{seconds:.3g}"
 
 
-def best_of_each_run(run: RunDirectory) -> list[Saved]:
+def best_of_each_run(run: RunContents) -> list[Saved]:
     """The first-ranked scenario of every run that wrote one."""
     firsts: dict[int, Saved] = {}
     for number, saved in run.scenarios:
@@ -270,7 +270,7 @@ def _fitness(saved: Saved) -> float:
 
 
 def run_sections(
-    run: RunDirectory, links_from: Path, *, level: int = 2, one_drawing: bool = False
+    run: RunContents, links_from: Path, *, level: int = 2, one_drawing: bool = False
 ) -> list[str]:
     """The runs, the best scenario of each (or, with ``one_drawing``, the fittest of all: a sweep's
     page draws one per cell), every best scenario, fitness and distributions."""
@@ -294,7 +294,7 @@ def run_sections(
     ]
 
 
-def report_html(run: RunDirectory, *, links_from: Path | None = None) -> str:
+def report_html(run: RunContents, *, links_from: Path | None = None) -> str:
     """The whole report page of a run directory, its links relative to ``links_from`` (default: the run)."""
     name = run.experiment.get("scenario", run.path.name)
     sections = [

@@ -16,10 +16,11 @@ from pathlib import Path
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.fileio import found_files, json_value, read_text
+from mazegen.fileio import json_value, read_text
+from mazegen.runtime.documents.folders import RunDirectory, SuiteDirectory
 from mazegen.runtime.documents.scenario import read_document
 from mazegen.runtime.reports.report import (
-    RunDirectory,
+    RunContents,
     read_run,
     read_spec,
     report_html,
@@ -45,11 +46,11 @@ def folder_report(path: Path, *, links_from: Path) -> str:
     Raises:
         MazeError: For a folder that is none of these, or a damaged file in it.
     """
-    if (path / "experiment.json").is_file():
+    if RunDirectory(path).record.is_file():
         return report_html(read_run(path), links_from=links_from)
-    if (path / "archive.json").is_file():
+    if SuiteDirectory(path).archive.is_file():
         return suite_html(path, links_from=links_from)
-    cells = sorted(child for child in path.iterdir() if (child / "experiment.json").is_file())
+    cells = sorted(child for child in path.iterdir() if RunDirectory(child).record.is_file())
     if cells:
         return sweep_html(path, cells, links_from=links_from)
     raise MazeError(
@@ -60,23 +61,24 @@ def folder_report(path: Path, *, links_from: Path) -> str:
 
 def suite_html(path: Path, *, links_from: Path) -> str:
     """The page of a suite folder: the settings it used, the archive's heatmap, every scenario."""
-    spec = read_spec(path / "spec.json")
+    suite = SuiteDirectory(path)
+    spec = read_spec(suite.spec)
     try:
-        archive = json_value(read_text(path / "archive.json", "archive.json"))
+        archive = json_value(read_text(suite.archive, "archive.json"))
         filled = f"{int(archive['filled'])} archive cells filled"
-        suite = [(name, int(value)) for name, value in archive.get("settings", {}).items()]  # older: none
+        settings = [(name, int(value)) for name, value in archive.get("settings", {}).items()]  # older: none
     except (ValueError, KeyError, TypeError, AttributeError):
-        raise MazeError("damaged archive.json", filename=str(path / "archive.json")) from None
+        raise MazeError("damaged archive.json", filename=str(suite.archive)) from None
     scenarios = [
-        Saved(f"scenario {file.stem.removeprefix('scenario-')}", file, read_document(file))
-        for file in found_files(path, "scenario-*.json")
+        Saved(f"scenario {SuiteDirectory.number(file)}", file, read_document(file))
+        for file in suite.scenario_files()
     ]
-    heatmap = path / "archive.png"
+    heatmap = suite.heatmap
     sections = [
         f"<h1>MazeGen suite: {e(spec.name)}</h1>",
         f"<p>{len(scenarios)} scenarios, {e(filled)}, from <code>{e(path.name)}</code>.</p>",
         "<h2>Settings</h2>",
-        f'<div class="tables">{table(suite, "suite")}</div>' if suite else "",
+        f'<div class="tables">{table(settings, "suite")}</div>' if settings else "",
         spec_html(spec, evolution=SUITE_EVOLUTION),
     ]
     if heatmap.is_file():
@@ -90,7 +92,7 @@ def suite_html(path: Path, *, links_from: Path) -> str:
     return page(f"MazeGen suite: {spec.name}", sections)
 
 
-def _words(run: RunDirectory) -> set[str]:
+def _words(run: RunContents) -> set[str]:
     """Every setting of a run's spec, as the language writes it."""
     if run.spec is None:
         return set()
@@ -99,10 +101,10 @@ def _words(run: RunDirectory) -> set[str]:
 
 def sweep_html(path: Path, cells: list[Path], *, links_from: Path) -> str:
     """One page about a sweep: a table of its cells, then a section per finished cell."""
-    runs: list[RunDirectory] = []
+    runs: list[RunContents] = []
     unfinished = []
     for cell in cells:
-        if (cell / "stats.csv").is_file():
+        if RunDirectory(cell).stats.is_file():
             runs.append(read_run(cell))
         else:
             unfinished.append(cell.name)
@@ -127,7 +129,7 @@ def sweep_html(path: Path, cells: list[Path], *, links_from: Path) -> str:
             f"<p>{e('; '.join(own) or 'the shared settings')}</p>",
             *run_sections(run, links_from, level=3, one_drawing=True),
         ]
-    firsts: dict[str, RunDirectory] = {}  # the first cell of each scenario, in cell order
+    firsts: dict[str, RunContents] = {}  # the first cell of each scenario, in cell order
     for run in runs:
         firsts.setdefault(str(run.experiment.get("scenario", run.path.name)), run)
     scenarios = list(firsts)

@@ -23,10 +23,10 @@ Point = tuple[float, float]
 RGB = tuple[int, int, int]
 
 DEFAULT_COLOUR: RGB = (85, 85, 85)
-START: RGB = (44, 160, 44)
-GOAL: RGB = (214, 39, 40)
-PATH: RGB = (230, 0, 126)  # magenta: no bundled element is drawn in it
-NO_PATH: RGB = (0, 0, 0)
+START_COLOUR: RGB = (44, 160, 44)
+GOAL_COLOUR: RGB = (214, 39, 40)
+PATH_COLOUR: RGB = (230, 0, 126)  # magenta: no bundled element is drawn in it
+NO_PATH_COLOUR: RGB = (0, 0, 0)
 INK: RGB = (34, 34, 34)
 PAPER: RGB = (244, 244, 244)
 WHITE: RGB = (255, 255, 255)

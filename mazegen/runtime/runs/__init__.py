@@ -19,7 +19,7 @@ if TYPE_CHECKING:
         run_jobs,
     )
     from mazegen.runtime.runs.executors import Executor, LocalExecutor, SerialExecutor
-    from mazegen.runtime.runs.results import RunDirectory
+    from mazegen.runtime.runs.results import RunDirectoryWriter
     from mazegen.runtime.runs.resumable import resumable_experiment
     from mazegen.runtime.runs.progress import Reporter, reporter_for
     from mazegen.runtime.runs.warmup import compile_kernels
@@ -33,7 +33,7 @@ __all__ = [
     "Job",
     "LocalExecutor",
     "Reporter",
-    "RunDirectory",
+    "RunDirectoryWriter",
     "RunsInterrupted",
     "SerialExecutor",
     "compile_kernels",
@@ -52,7 +52,7 @@ __getattr__ = lazy_names(
         "experiment": ["BUILD_FILES", "Experiment", "default_run_dir"],
         "launcher": ["ExperimentResult", "Job", "RunsInterrupted", "executor_for", "launch", "run_jobs"],
         "executors": ["Executor", "LocalExecutor", "SerialExecutor"],
-        "results": ["RunDirectory"],
+        "results": ["RunDirectoryWriter"],
         "resumable": ["resumable_experiment"],
         "progress": ["Reporter", "reporter_for"],
         "warmup": ["compile_kernels"],

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import io
 import json
-import re
 import zipfile
 import zlib
 from dataclasses import astuple, dataclass
@@ -24,6 +23,7 @@ import numpy as np
 
 from mazegen.errors import MazeError, option
 from mazegen.fileio import write_atomic
+from mazegen.runtime.documents.folders import RunDirectory
 from mazegen.runtime.engine.evolution import GenerationStats, RunState
 from mazegen.runtime.engine.population import PLACEMENT_GENES
 
@@ -38,8 +38,6 @@ KEEP = 2
 AUTO_SECONDS = 30.0
 """Without ``every``, a run checkpoints after the first generation that ends this long after
 its previous checkpoint (a run of a few seconds never writes more than its last)."""
-
-_NAME = re.compile(r"gen-(\d+)\.ckpt")
 
 
 class DamagedCheckpoint(MazeError):
@@ -213,12 +211,13 @@ class CheckpointStore:
         """The run's checkpoint files, newest generation first."""
         if not self.directory.is_dir():
             return []
-        found = [(int(m[1]), p) for p in self.directory.iterdir() if (m := _NAME.fullmatch(p.name))]
+        named = [(RunDirectory.checkpoint_generation(path.name), path) for path in self.directory.iterdir()]
+        found = [(generation, path) for generation, path in named if generation is not None]
         return [path for _, path in sorted(found, reverse=True)]
 
     def save(self, state: RunState) -> Path:
         """Write ``state`` (temporary file, then rename) and drop checkpoints older than the kept ones."""
-        path = self.directory / f"gen-{state.generation:06d}.ckpt"
+        path = self.directory / RunDirectory.checkpoint_name(state.generation)
         write_atomic(path, checkpoint_bytes(state, experiment=self.experiment))
         for old in self.paths()[self.keep :]:
             old.unlink(missing_ok=True)

@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from mazegen.errors import MazeError
+from mazegen.runtime.documents.folders import RunDirectory
 from mazegen.runtime.runs.experiment import Experiment, default_run_dir
 from mazegen.runtime.runs.launcher import ExperimentResult, Job, RunsInterrupted, run_jobs
 from mazegen.runtime.runs.progress import reporter_for
@@ -40,7 +41,7 @@ def closing_lines(outcome: ExperimentResult, run_dir: Path) -> list[str]:
     shown = printable(str(run_dir))
     lines = [f"wrote {shown}"]
     if any(outcome.best):
-        pictures = printable(str(run_dir / "run-NN" / "best-KK.svg"))
+        pictures = printable(str(RunDirectory(run_dir).pictures))
         lines += [
             f"pictures: {pictures} (as PNG: mazegen export {shown} --format png)",
             f"one page of settings, pictures and plots: mazegen report {shown}",

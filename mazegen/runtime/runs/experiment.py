@@ -17,6 +17,7 @@ import numpy as np
 
 from mazegen.version import __version__
 from mazegen.errors import MazeError, brief
+from mazegen.runtime.documents.folders import RunDirectory
 from mazegen.runtime.engine.problem import Problem
 from mazegen.runtime.runs.results import json_text
 from mazegen.runtime.runs.worker import BuildFiles
@@ -48,7 +49,7 @@ class Experiment:
         """The resolved experiment: settings, seeds and software versions."""
         spec = self.problem.spec
         return {
-            "format": "mazegen-run",
+            "format": RunDirectory.RECORD_FORMAT,
             "version": 1,
             "scenario": spec.name,
             "source": spec.source,
@@ -75,13 +76,14 @@ class Experiment:
 
     def start_files(self) -> dict[str, str | bytes]:
         """The files a run directory holds from its start: the build that runs, and ``experiment.json``."""
-        files: dict[str, str | bytes] = {"experiment.json": json_text(self.record())}
+        layout = RunDirectory(Path())  # paths relative to the run directory
+        files: dict[str, str | bytes] = {str(layout.record): json_text(self.record())}
         for name in BUILD_FILES:
             source = self.problem.build_dir / name
-            if name == "spec.json":
-                files[f"experiment/{name}"] = self.problem.spec.to_json()
+            if layout.build / name == layout.spec:  # the spec with the overrides, not the build's
+                files[str(layout.spec)] = self.problem.spec.to_json()
             elif source.is_file():
-                files[f"experiment/{name}"] = source.read_bytes()
+                files[str(layout.build / name)] = source.read_bytes()
         return files
 
 

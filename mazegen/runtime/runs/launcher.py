@@ -25,7 +25,7 @@ from mazegen.runtime.runs.checkpoint import CheckpointPolicy, CheckpointShape, C
 from mazegen.runtime.engine.evolution import RunResult
 from mazegen.runtime.runs.executors import EXECUTORS, Executor, LocalExecutor, SerialExecutor, available_cores
 from mazegen.runtime.runs.progress import QuietReporter, Reporter, note_first_compile
-from mazegen.runtime.runs.results import RunDirectory
+from mazegen.runtime.runs.results import RunDirectoryWriter
 from mazegen.runtime.runs.worker import FinishedRun, RunOutcome, RunTask
 from mazegen.text import printable
 
@@ -97,15 +97,15 @@ class _Launched:
         self.runs = settings.runs
         self.results: dict[int, RunResult] = {}
         self.documents: dict[int, tuple[dict[str, Any], ...]] = {}
-        self.directory: RunDirectory | None = None
+        self.directory: RunDirectoryWriter | None = None
         self.experiment_id: int | None = None
         self.tasks: list[RunTask] = []
         if job.run_dir is not None:
             if job.resume:
-                self.directory = RunDirectory.unfinished(job.run_dir)
+                self.directory = RunDirectoryWriter.unfinished(job.run_dir)
             else:
                 files = job.experiment.start_files()
-                self.directory = RunDirectory.create(job.run_dir, force=job.force, files=files)
+                self.directory = RunDirectoryWriter.create(job.run_dir, force=job.force, files=files)
         try:
             self._prepare(index, label, executor, policy, reporter)
         except BaseException as error:

@@ -23,6 +23,7 @@ except ImportError:  # Windows: folders are not locked
 
 from mazegen.errors import MazeError
 from mazegen.fileio import make_folder
+from mazegen.runtime.documents.folders import RunDirectory
 
 
 def _flock(path: Path, operation: int) -> int | None:
@@ -50,7 +51,7 @@ def lock_folder(path: Path, what: str) -> int | None:
     if fcntl is None:
         return None
     handle = _flock(path, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    checkpoints = path / "checkpoints"
+    checkpoints = RunDirectory(path).all_checkpoints
     if handle is not None and checkpoints.is_dir():
         workers = _flock(checkpoints, fcntl.LOCK_EX | fcntl.LOCK_NB)
         if workers is None:

@@ -16,7 +16,7 @@ import numpy as np
 from mazegen.fitness_terms import term_kind
 from mazegen.runtime.engine.evolution import EVALUATION_CHUNK
 from mazegen.runtime.engine.problem import REJECTED, Problem
-from mazegen.runtime.runs.results import RunDirectory
+from mazegen.runtime.documents.folders import RunDirectory
 from mazegen.spec import Spec
 
 EXHAUSTED, OVERFLOW, NOT_FINITE = "exhausted", "overflow", "not finite"
@@ -60,12 +60,13 @@ def rejection_causes(problem: Problem, codons: np.ndarray, genes: np.ndarray) ->
 def why_no_scenario(run_dir: Path, run: int) -> list[str]:
     """Lines saying what made run ``run`` of ``run_dir`` end without a valid scenario: its final
     generation's size, then a line per cause (none when the run directory lacks the population)."""
-    population = RunDirectory(run_dir).run_path(run) / "population.npz"
+    directory = RunDirectory(run_dir)
+    population = directory.population(run)
     if not population.is_file():
         return []
     with np.load(population) as arrays:
         codons, genes = arrays["codons"], arrays["placement"]
-    problem = Problem.from_build_dir(RunDirectory(run_dir).build)
+    problem = Problem.from_build_dir(directory.build)
     causes = rejection_causes(problem, codons, genes)
     return [
         f"of its final generation's {codons.shape[0]} individuals,",

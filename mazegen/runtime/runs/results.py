@@ -1,6 +1,7 @@
-"""The run directory: statistics, best scenarios, final populations, and checkpoints while it runs.
+"""Writing the run directory: statistics, best scenarios, final populations, and checkpoints while it runs.
 
-A run directory is written as it goes, so that a killed experiment can be resumed:
+Where each file goes is :class:`~mazegen.runtime.documents.folders.RunDirectory`'s to say. A run
+directory is written as it goes, so that a killed experiment can be resumed:
 
 * at the start, ``experiment/`` (the build), ``experiment.json`` and ``checkpoints/``, staged
   beside and renamed into place at once: a kill leaves the whole start or nothing;
@@ -38,15 +39,14 @@ import numpy as np
 from mazegen.errors import MazeError, option
 from mazegen.fileio import FOLDER_MODE, disk_errors, make_folder, write_atomic
 from mazegen.runtime.engine.evolution import GenerationStats, RunResult
-from mazegen.runtime.runs.locks import lock_folder
-from mazegen.runtime.reports.render import scenario_svg
+from mazegen.runtime.documents.folders import RunDirectory
 from mazegen.runtime.documents.scenario import dumps
+from mazegen.runtime.reports.render import scenario_svg
+from mazegen.runtime.runs.locks import lock_folder
 
 TIMED = "seconds"
-START = "start-"
+STAGED_START = "start-"
 """Infix of the folder a run directory's start is staged in, beside it (``.NAME.start-XXXX``)."""
-DROPPED = ".checkpoints-dropped"
-"""Where the checkpoints go, in one rename, when the directory ends."""
 STATS_COLUMNS = ("run", *(f.name for f in fields(GenerationStats) if f.name != TIMED))
 TIMING_COLUMNS = ("run", "generation", TIMED)
 
@@ -160,16 +160,16 @@ def run_files(result: RunResult, documents: tuple[dict[str, Any], ...]) -> dict[
     """
     files: dict[str, bytes] = {}
     for rank, document in enumerate(documents, start=1):
-        name = f"best-{rank:02d}.json"
+        name = RunDirectory.best_name(rank, ".json")
         files[name] = dumps(document, name).encode("utf-8")
-        files[f"best-{rank:02d}.svg"] = scenario_svg(document).encode("utf-8")
+        files[RunDirectory.best_name(rank, ".svg")] = scenario_svg(document).encode("utf-8")
     arrays = {"codons": result.codons, "placement": result.genes, "fitness": result.fitness}
-    files["population.npz"] = npz_bytes(arrays)
+    files[RunDirectory.POPULATION] = npz_bytes(arrays)
     return files
 
 
-class RunDirectory:
-    """The files of one experiment's run directory (see the module docstring for its life).
+class RunDirectoryWriter(RunDirectory):
+    """One experiment's run directory as a launch writes it (see the module docstring for its life).
 
     A directory being written is locked (see :mod:`~mazegen.runtime.runs.locks`), so a second
     launch cannot resume or replace it meanwhile, nor a launch while the workers of a launcher
@@ -177,11 +177,11 @@ class RunDirectory:
     """
 
     def __init__(self, path: Path) -> None:
-        self.path = path
+        super().__init__(path)
         self._lock: int | None = None
 
     @classmethod
-    def create(cls, path: Path, *, force: bool, files: dict[str, str | bytes]) -> RunDirectory:
+    def create(cls, path: Path, *, force: bool, files: dict[str, str | bytes]) -> RunDirectoryWriter:
         """A new run directory holding ``files`` (paths relative to it), locked.
 
         The start is staged in a folder beside ``path`` and renamed to it at once, so a kill
@@ -206,16 +206,16 @@ class RunDirectory:
                     "interrupted run)",
                     filename=str(path),
                 )
-        directory: RunDirectory | None = None
+        directory: RunDirectoryWriter | None = None
         try:
             _delete_abandoned_starts(path)
-            with staged_directory(path, force=True, kind=START) as stage:
+            with staged_directory(path, force=True, kind=STAGED_START) as stage:
                 directory = cls(stage)
                 directory.lock()
                 for name, data in files.items():
                     write_atomic(stage / name, data)
-                with disk_errors(path / "checkpoints"):
-                    (stage / "checkpoints").mkdir()
+                with disk_errors(RunDirectory(path).all_checkpoints):
+                    directory.all_checkpoints.mkdir()
         except BaseException:
             if directory is not None:
                 directory.close()
@@ -226,7 +226,7 @@ class RunDirectory:
         return directory
 
     @classmethod
-    def unfinished(cls, path: Path) -> RunDirectory:
+    def unfinished(cls, path: Path) -> RunDirectoryWriter:
         """An interrupted run directory, locked, cleared of the temporary files a kill left behind.
 
         Raises:
@@ -241,7 +241,7 @@ class RunDirectory:
                     shutil.rmtree(leftover)
                 else:
                     leftover.unlink()
-            (path / "checkpoints").mkdir(exist_ok=True)  # workers check that they can see it
+            directory.all_checkpoints.mkdir(exist_ok=True)  # workers check that they can see it
         return directory
 
     def check_unfinished(self) -> None:
@@ -249,10 +249,10 @@ class RunDirectory:
 
         A finished one is first rid of checkpoints whose deletion a kill interrupted.
         """
-        if not (self.path / "experiment.json").is_file() or not (self.build / "spec.json").is_file():
+        if not self.record.is_file() or not self.spec.is_file():
             raise MazeError("not a MazeGen run directory (no experiment.json)", filename=str(self.path))
         if self.finished:
-            shutil.rmtree(self.path / DROPPED, ignore_errors=True)
+            shutil.rmtree(self.dropped_checkpoints, ignore_errors=True)
             raise MazeError("this run directory is finished: nothing to resume", filename=str(self.path))
 
     def lock(self) -> None:
@@ -269,36 +269,9 @@ class RunDirectory:
             os.close(self._lock)
             self._lock = None
 
-    @property
-    def build(self) -> Path:
-        """The build that runs: ``experiment/``."""
-        return self.path / "experiment"
-
-    @property
-    def finished(self) -> bool:
-        """Whether the directory's ending is done: ``stats.csv`` written, then the checkpoints deleted.
-
-        A directory killed in between is not finished: resuming it goes on from each run's
-        last checkpoint (its last generation) and ends it again, identically.
-        """
-        return (self.path / "stats.csv").is_file() and not (self.path / "checkpoints").exists()
-
-    @property
-    def started_anything(self) -> bool:
-        """Whether a run has saved a checkpoint or finished: what a resume would continue from."""
-        return any(self.path.glob("run-*")) or any((self.path / "checkpoints").glob("run-*/gen-*.ckpt"))
-
     def discard(self) -> None:
         """Delete the whole directory (a new one that failed before any run made progress)."""
         shutil.rmtree(self.path, ignore_errors=True)
-
-    def run_path(self, number: int) -> Path:
-        """The folder of run ``number``'s results."""
-        return self.path / f"run-{number:02d}"
-
-    def checkpoints(self, number: int) -> Path:
-        """The folder of run ``number``'s checkpoints."""
-        return self.path / "checkpoints" / f"run-{number:02d}"
 
     def write_run(self, number: int, files: dict[str, bytes]) -> None:
         """Write run ``number``'s files (from :func:`run_files`), whole or not at all."""
@@ -310,13 +283,13 @@ class RunDirectory:
     def finish(self, results: list[RunResult]) -> None:
         """Write the statistics of every run (run 1 first); :meth:`drop_checkpoints` then ends it."""
         rows = [(number, row) for number, result in enumerate(results, start=1) for row in result.stats]
-        write_atomic(self.path / "timing.csv", timing_csv(rows))
-        write_atomic(self.path / "stats.csv", stats_csv(rows))
+        write_atomic(self.timing, timing_csv(rows))
+        write_atomic(self.stats, stats_csv(rows))
 
     def drop_checkpoints(self) -> None:
         """Delete the checkpoints, which marks the directory finished: one rename, then the deletion
         of the renamed folder (a kill in between leaves it hidden, deleted by the next resume)."""
-        checkpoints, dropped = self.path / "checkpoints", self.path / DROPPED
+        checkpoints, dropped = self.all_checkpoints, self.dropped_checkpoints
         if checkpoints.exists():
             with disk_errors(checkpoints):
                 checkpoints.rename(dropped)
@@ -325,8 +298,8 @@ class RunDirectory:
 
 def _delete_abandoned_starts(path: Path) -> None:
     """Delete the folders a killed launch staged for ``path``: those no process holds locked."""
-    for stage in path.parent.glob(f".{glob.escape(path.name)}.{START}*"):
-        abandoned = RunDirectory(stage)
+    for stage in path.parent.glob(f".{glob.escape(path.name)}.{STAGED_START}*"):
+        abandoned = RunDirectoryWriter(stage)
         try:
             abandoned.lock()
         except MazeError:

@@ -15,7 +15,7 @@ from pathlib import Path
 from mazegen.errors import MazeError, option
 from mazegen.fileio import json_value
 from mazegen.runtime.runs.experiment import BUILD_FILES, Experiment
-from mazegen.runtime.runs.results import RunDirectory
+from mazegen.runtime.runs.results import RunDirectoryWriter
 
 NEEDED = tuple(name for name in BUILD_FILES if name != "experiment.py")
 """The build files a resume loads (``experiment.py`` only runs a build by hand)."""
@@ -34,19 +34,19 @@ def resumable_experiment(run_dir: Path, *, copy_to: Path) -> Experiment:
         MazeError: for a folder that is not a run directory, a finished one, or one whose files
             are missing, damaged or disagree with each other.
     """
-    directory = RunDirectory(run_dir)
+    directory = RunDirectoryWriter(run_dir)
     directory.check_unfinished()
     for name in NEEDED:
         if not (directory.build / name).is_file():
             raise MazeError(
                 f"missing from this run directory ({RESTORE})", filename=str(directory.build / name)
             )
-    checkpoints = run_dir / "checkpoints"
+    checkpoints = directory.all_checkpoints
     if checkpoints.exists() and not checkpoints.is_dir():
         raise MazeError("not a folder (move it away to resume)", filename=str(checkpoints))
     with _named_as_in(directory.build, copy_to):
         experiment = Experiment.from_build_dir(shutil.copytree(directory.build, copy_to))
-    _check_record(run_dir / "experiment.json", experiment)
+    _check_record(directory.record, experiment)
     return experiment
 
 

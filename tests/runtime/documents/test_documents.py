@@ -18,9 +18,9 @@ import pytest
 
 from mazegen.errors import MazeError
 from mazegen.runtime.documents import scenario_rules
+from mazegen.runtime.documents.floor import EXPORT_METRES_PER_UNIT
 from mazegen.runtime.documents.scenario import read_document
 from mazegen.runtime.documents.scenario_rules import DOCUMENT, Fields, Flag, Items, Number, Rule, Text
-from mazegen.runtime.exporters.floor import METRES_PER_UNIT
 from tests.conftest import ROOT
 from tests.runtime.scenario_mutants import HAND, mutant, nested, text_of, whole_document, write
 
@@ -185,7 +185,7 @@ def test_a_document_without_its_drive_is_read_and_the_drive_outcomes_are_the_sim
 
 
 def test_the_units_are_those_exports_know():
-    assert set(METRES_PER_UNIT) == set(scenario_rules.UNITS)
+    assert set(EXPORT_METRES_PER_UNIT) == set(scenario_rules.UNITS)
 
 
 def test_at_most_the_elements_the_language_allows():

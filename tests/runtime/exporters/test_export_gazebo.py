@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import mazegen
-from mazegen.runtime.exporters.floor import ExportOptions, load_floor
+from mazegen.runtime.documents.floor import load_floor
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.exporters.gazebo import gazebo_files
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file

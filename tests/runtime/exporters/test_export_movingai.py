@@ -10,7 +10,8 @@ import pytest
 
 import mazegen
 from mazegen.errors import MazeError
-from mazegen.runtime.exporters.floor import ExportOptions, load_floor
+from mazegen.runtime.documents.floor import load_floor
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.exporters.movingai import movingai_files, octile_length
 from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.paths import free_cells

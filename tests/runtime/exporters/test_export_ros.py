@@ -12,7 +12,8 @@ import yaml
 
 import mazegen
 from mazegen.errors import MazeError
-from mazegen.runtime.exporters.floor import ExportOptions, load_floor
+from mazegen.runtime.documents.floor import load_floor
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.exporters.ros import FREE_THRESH, OCCUPIED_THRESH, ros_files
 from mazegen.runtime.geometry.cspace import grid_of
 from mazegen.runtime.navigation.paths import free_cells

@@ -17,9 +17,10 @@ import mazegen
 from mazegen import api, fileio
 from mazegen.errors import MazeError
 from mazegen.runtime.catalog import catalog as catalog_module
-from mazegen.runtime.runs import results
 from mazegen.runtime.catalog.catalog import Catalog
-from mazegen.runtime.runs.results import RunDirectory, staged_directory
+from mazegen.runtime.documents.folders import RunDirectory
+from mazegen.runtime.runs import results
+from mazegen.runtime.runs.results import RunDirectoryWriter, staged_directory
 from tests.runtime.rundirs import SMALL, SPEC, Killed, file_digests, invoke, small_run
 
 FULL = OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
@@ -60,7 +61,7 @@ def test_a_kill_during_the_start_leaves_no_run_directory(tmp_path, monkeypatch, 
 
 def test_a_stage_left_by_a_killed_start_is_deleted_by_the_next_run(tmp_path, small_reference):
     out = tmp_path / "run"
-    stage = tmp_path / f".run.{results.START}x1y2"
+    stage = tmp_path / f".run.{results.STAGED_START}x1y2"
     (stage / "experiment").mkdir(parents=True)
     (stage / "experiment.json").write_text("{}")
     small_run(out)
@@ -102,7 +103,9 @@ def test_resume_ends_a_directory_killed_while_ending(tmp_path, monkeypatch, smal
 
             patched.setattr(Catalog, "finish_experiment", finish)
         else:
-            patched.setattr(RunDirectory, "drop_checkpoints", lambda self: (_ for _ in ()).throw(Killed()))
+            patched.setattr(
+                RunDirectoryWriter, "drop_checkpoints", lambda self: (_ for _ in ()).throw(Killed())
+            )
         with pytest.raises(Killed):
             small_run(out, catalog)
     assert (out / "stats.csv").is_file() and list((out / "checkpoints").rglob("*.ckpt"))
@@ -116,8 +119,8 @@ def test_resume_ends_a_directory_killed_while_ending(tmp_path, monkeypatch, smal
 def test_resume_deletes_checkpoints_whose_deletion_was_killed(tmp_path, small_reference):
     out = tmp_path / "run"
     small_run(out)
-    (out / results.DROPPED / "run-01").mkdir(parents=True)  # renamed, not yet deleted
-    (out / results.DROPPED / "run-01" / "gen-000003.ckpt").write_bytes(b"checkpoint")
+    (RunDirectory(out).dropped_checkpoints / "run-01").mkdir(parents=True)  # renamed, not yet deleted
+    (RunDirectory(out).dropped_checkpoints / "run-01" / "gen-000003.ckpt").write_bytes(b"checkpoint")
     result = invoke("resume", str(out), "-q")
     assert result.exit_code == 1 and "finished: nothing to resume" in result.stderr
     assert file_digests(out) == small_reference
@@ -210,7 +213,7 @@ def test_a_replacement_that_cannot_be_renamed_into_place_keeps_the_old_directory
     real = Path.rename
 
     def rename(self: Path, target):
-        staged = self.name.startswith(f".run.{results.START}") and not self.name.endswith(".old")
+        staged = self.name.startswith(f".run.{results.STAGED_START}") and not self.name.endswith(".old")
         if Path(target) == out and staged:
             raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
         return real(self, target)

@@ -7,7 +7,7 @@ import pytest
 from mazegen.errors import MazeError
 from mazegen.runtime.runs import locks
 from mazegen.runtime.runs.locks import writing_checkpoints
-from mazegen.runtime.runs.results import RunDirectory
+from mazegen.runtime.runs.results import RunDirectoryWriter
 
 pytestmark = pytest.mark.skipif(locks.fcntl is None, reason="run directories are locked with flock")
 
@@ -16,14 +16,14 @@ IN_USE = "this run directory is in use by another mazegen process"
 
 def test_a_worker_writing_checkpoints_keeps_the_directory_in_use(tmp_path):
     path = tmp_path / "run"
-    directory = RunDirectory.create(path, force=False, files={"experiment.json": "{}"})
+    directory = RunDirectoryWriter.create(path, force=False, files={"experiment.json": "{}"})
     checkpoints = directory.checkpoints(1).parent
     # A worker of the launch that holds the directory takes its share without waiting.
     with writing_checkpoints(checkpoints), pytest.raises(MazeError, match=IN_USE):
-        RunDirectory.create(path, force=True, files={})
+        RunDirectoryWriter.create(path, force=True, files={})
     directory.close()  # the launcher is gone (killed outright), one of its workers not yet
     with writing_checkpoints(checkpoints), pytest.raises(MazeError, match=IN_USE):
-        RunDirectory.create(path, force=True, files={})
+        RunDirectoryWriter.create(path, force=True, files={})
     assert (path / "experiment.json").is_file()  # nothing replaced
-    RunDirectory.create(path, force=True, files={}).close()  # free once the worker is gone too
+    RunDirectoryWriter.create(path, force=True, files={}).close()  # free once the worker is gone too
     assert not (path / "experiment.json").exists()

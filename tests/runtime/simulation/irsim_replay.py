@@ -17,8 +17,9 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from mazegen.runtime.documents.floor import Floor
 from mazegen.runtime.engine.population import Population
-from mazegen.runtime.exporters.floor import ExportOptions, Floor
+from mazegen.runtime.exporters.floor import ExportOptions
 from mazegen.runtime.exporters.irsim import irsim_files
 from mazegen.runtime.geometry.elements import world_vertices
 from mazegen.runtime.simulation import Episodes, Observations, drive
