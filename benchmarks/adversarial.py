@@ -29,11 +29,11 @@ import numpy as np
 from calibration import perturbed_starts, problem_of
 from common import ROOT, markdown_table
 
-from mazegen.runtime.documents.scenario import scenario_key
+from mazegen.runtime.documents._scenario import scenario_key
 from mazegen.runtime.engine import evolution
-from mazegen.runtime.engine.operators import random_codons, random_genes
-from mazegen.runtime.engine.population import Population
-from mazegen.runtime.navigation.measures import survey_of
+from mazegen.runtime.engine._operators import random_codons, random_genes
+from mazegen.runtime.engine._population import Population
+from mazegen.runtime.navigation._measures import survey_of
 from mazegen.runtime.simulation import ARRIVED, drive
 from mazegen.spec import robot_for
 

@@ -49,13 +49,13 @@ from common import ROOT, markdown_table
 
 import mazegen
 from mazegen.generator.build import build
-from mazegen.runtime.documents.scenario import element_documents, population_from_documents
+from mazegen.runtime.documents._scenario import element_documents, population_from_documents
 from mazegen.runtime.engine import evolution
-from mazegen.runtime.engine.operators import random_codons, random_genes
-from mazegen.runtime.engine.population import Population
-from mazegen.runtime.engine.problem import Problem
-from mazegen.runtime.geometry.elements import ElementTable
-from mazegen.runtime.navigation.calibration import (
+from mazegen.runtime.engine._operators import random_codons, random_genes
+from mazegen.runtime.engine._population import Population
+from mazegen.runtime.engine._problem import Problem
+from mazegen.runtime.geometry._elements import ElementTable
+from mazegen.runtime.navigation._calibration import (
     TARGET_CONTROLLERS,
     CalibrationFloors,
     arrivals,
@@ -66,8 +66,8 @@ from mazegen.runtime.navigation.calibration import (
     score_fit,
     version_1_levels,
 )
-from mazegen.runtime.navigation.difficulty import HARDNESS, METRICS, difficulty_score
-from mazegen.runtime.navigation.measures import survey_of
+from mazegen.runtime.navigation._difficulty import HARDNESS, METRICS, difficulty_score
+from mazegen.runtime.navigation._measures import survey_of
 from mazegen.runtime.simulation import ARRIVED, COLLISION, drive
 from mazegen.spec import Spec, robot_for
 

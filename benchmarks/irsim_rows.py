@@ -32,8 +32,8 @@ from common import ROOT, markdown_table, median_seconds
 
 sys.path.insert(0, str(ROOT))  # the oracle's floors and replay live with its test
 
-from mazegen.runtime.documents.floor import EXPORT_METRES_PER_UNIT
-from mazegen.runtime.engine.population import Population
+from mazegen.runtime.documents._floor import EXPORT_METRES_PER_UNIT
+from mazegen.runtime.engine._population import Population
 from mazegen.runtime.simulation import NO_PATH, Observations, drive
 from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import Robot, robot_for

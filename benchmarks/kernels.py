@@ -34,11 +34,11 @@ import mazegen
 from mazegen.generator.build import build
 from mazegen.runtime import metrics
 from mazegen.runtime.engine import breeding, evolution
-from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
-from mazegen.runtime.engine.mapping import PopulationMap
-from mazegen.runtime.engine.operators import random_codons, random_genes
-from mazegen.runtime.engine.population import Population, placement_params
-from mazegen.runtime.engine.problem import Problem, Workspace
+from mazegen.runtime.engine._cache import EvaluationCache, genome_hashes
+from mazegen.runtime.engine._mapping import PopulationMap
+from mazegen.runtime.engine._operators import random_codons, random_genes
+from mazegen.runtime.engine._population import Population, placement_params
+from mazegen.runtime.engine._problem import Problem, Workspace
 from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import FitnessTerm
 

@@ -44,12 +44,12 @@ from kernels import EVOLVED_GENERATIONS, Sample, evolved_sample
 
 import mazegen
 from mazegen.runtime import metrics
-from mazegen.runtime.engine.population import Population
-from mazegen.runtime.engine.problem import Problem, Workspace
-from mazegen.runtime.geometry.cspace import grid_of
-from mazegen.runtime.navigation.connectivity import reach
-from mazegen.runtime.navigation.difficulty import survey
-from mazegen.runtime.navigation.paths import navigate
+from mazegen.runtime.engine._population import Population
+from mazegen.runtime.engine._problem import Problem, Workspace
+from mazegen.runtime.geometry._cspace import grid_of
+from mazegen.runtime.navigation._connectivity import reach
+from mazegen.runtime.navigation._difficulty import survey
+from mazegen.runtime.navigation._paths import navigate
 from mazegen.runtime.threads import thread_count, threads
 
 SPECS = {

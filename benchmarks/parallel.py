@@ -29,9 +29,9 @@ from pathlib import Path
 from common import BENCHMARKS, ROOT, markdown_table, write_csv
 
 import mazegen
-from mazegen.runtime.runs.executors import Executor, LocalExecutor, SerialExecutor
-from mazegen.runtime.runs.experiment import Experiment
-from mazegen.runtime.runs.launcher import Job, launch
+from mazegen.runtime.runs._executors import Executor, LocalExecutor, SerialExecutor
+from mazegen.runtime.runs._experiment import Experiment
+from mazegen.runtime.runs._launcher import Job, launch
 
 DASK = "dask, 2 workers, warm"
 
@@ -144,7 +144,7 @@ def dask_executor(stack: ExitStack) -> Executor:
     """An executor on a new Dask LocalCluster of two one-thread worker processes on loopback."""
     from distributed import LocalCluster
 
-    from mazegen.runtime.runs.dask_executor import DaskExecutor
+    from mazegen.runtime.runs._dask_executor import DaskExecutor
 
     cluster = stack.enter_context(
         LocalCluster(

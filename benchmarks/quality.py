@@ -43,8 +43,8 @@ import numpy as np
 from common import BENCHMARKS, ROOT, markdown_table, write_csv
 
 import mazegen
-from mazegen.runtime.engine.evolution import RunResult, evolve
-from mazegen.runtime.engine.problem import Problem
+from mazegen.runtime.engine._evolution import RunResult, evolve
+from mazegen.runtime.engine._problem import Problem
 from mazegen.spec import Spec
 
 

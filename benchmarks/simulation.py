@@ -33,7 +33,7 @@ from irsim_rows import irsim_rows
 from kernels import evolved_sample, load_problem
 
 from mazegen.controllers import BY_CODE
-from mazegen.runtime.engine.population import Population
+from mazegen.runtime.engine._population import Population
 from mazegen.runtime.simulation import NO_PATH, OUTCOMES, drive
 from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import robot_for

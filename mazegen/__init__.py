@@ -13,7 +13,7 @@ if TYPE_CHECKING:
     from mazegen.api import build, load, resume, run, sweep
     from mazegen.errors import MazeError
     from mazegen.runtime.plugin_view import Floors
-    from mazegen.runtime.runs.launcher import ExperimentResult
+    from mazegen.runtime.runs import ExperimentResult
     from mazegen.spec import Spec
 
 from mazegen.version import __version__ as __version__  # the package states its version
@@ -24,7 +24,7 @@ _HOMES = {
     "run": "mazegen.api",
     "resume": "mazegen.api",
     "sweep": "mazegen.api",
-    "ExperimentResult": "mazegen.runtime.runs.launcher",
+    "ExperimentResult": "mazegen.runtime.runs._launcher",
     "Floors": "mazegen.runtime.plugin_view",
     "MazeError": "mazegen.errors",
     "Spec": "mazegen.spec",

@@ -25,10 +25,7 @@ from mazegen.generator.build import build as build_files
 from mazegen.spec import Spec
 
 if TYPE_CHECKING:
-    from mazegen.runtime.runs.executors import Executor
-    from mazegen.runtime.runs.experiment import Experiment
-    from mazegen.runtime.runs.launcher import ExperimentResult
-    from mazegen.runtime.runs.progress import Reporter
+    from mazegen.runtime.runs import Executor, Experiment, ExperimentResult, Reporter
 
 
 def load(path: str | os.PathLike[str]) -> Spec:
@@ -83,7 +80,7 @@ def run(
         force: Replace an existing ``out_dir``.
         reporter: Progress display.
         executor: ``serial`` (this process, the default here), ``local`` (worker processes),
-            ``dask`` (with ``scheduler``), or an :class:`~mazegen.runtime.runs.executors.Executor`.
+            ``dask`` (with ``scheduler``), or an :class:`~mazegen.runtime.runs._executors.Executor`.
         workers: Local worker processes (default: the cores).
         scheduler: The Dask scheduler's address, ``tcp://HOST:PORT``.
         checkpoint_every: Checkpoint every this many generations (0: never; default: every 30 s).
@@ -91,10 +88,9 @@ def run(
         keep_populations: Return each run's final population; without, the result holds each
             run's statistics and best documents (the populations are in ``out_dir``).
         compile_seconds: Seconds the caller spent compiling the kernels for this run ahead
-            (:func:`mazegen.runtime.runs.warmup.compile_kernels`), counted in run 1's time.
+            (:func:`mazegen.runtime.runs._warmup.compile_kernels`), counted in run 1's time.
     """
-    from mazegen.runtime.runs.experiment import Experiment
-    from mazegen.runtime.runs.launcher import Job, run_jobs
+    from mazegen.runtime.runs import Experiment, Job, run_jobs
 
     def _run(build_dir: Path) -> ExperimentResult:
         experiment = Experiment.from_build_dir(build_dir).with_settings(
@@ -141,7 +137,7 @@ def resume(
         MazeError: for a folder that is not a run directory, a finished one, or a run whose
             checkpoints are all damaged.
     """
-    from mazegen.runtime.runs.launcher import Job, run_jobs
+    from mazegen.runtime.runs import Job, run_jobs
 
     with tempfile.TemporaryDirectory(prefix="mazegen-resume-") as temp:
         job = Job(_resumable(Path(run_dir), Path(temp) / "build"), Path(run_dir), resume=True)
@@ -188,9 +184,8 @@ def sweep(
         MazeError: for an unknown setting, a value out of bounds, or a cell directory that
             holds another experiment (without ``force``).
     """
-    from mazegen.runtime.campaigns.sweep import MAX_CELLS, Axis, plan_cells
-    from mazegen.runtime.runs.experiment import Experiment
-    from mazegen.runtime.runs.launcher import Job, run_jobs
+    from mazegen.runtime.campaigns import MAX_CELLS, Axis, plan_cells
+    from mazegen.runtime.runs import Experiment, Job, run_jobs
 
     for name, values in settings.items():
         if len(values) > MAX_CELLS:  # counted before a range of a billion seeds is spelled out
@@ -233,6 +228,6 @@ def _resumable(run_dir: Path, build: Path) -> Experiment:
     Raises:
         MazeError: for a folder that is not a run directory, a finished or damaged one.
     """
-    from mazegen.runtime.runs.resumable import resumable_experiment
+    from mazegen.runtime.runs import resumable_experiment
 
     return resumable_experiment(run_dir, copy_to=build)

@@ -3,8 +3,8 @@
 A row names its writer as ``module:function``, imported only when a scenario is exported, so that
 the command line lists and checks formats without importing the runtime (and numba). A writer is a
 function ``writer(floor, options) -> {file name: bytes or str}`` of a
-:class:`~mazegen.runtime.exporters.floor.Floor` and its
-:class:`~mazegen.runtime.exporters.floor.ExportOptions`. Installed packages add formats under the
+:class:`~mazegen.runtime.exporters._floor.Floor` and its
+:class:`~mazegen.runtime.exporters._floor.ExportOptions`. Installed packages add formats under the
 ``mazegen.exporters`` entry point group (:mod:`mazegen.plugins`); a bundled name is never replaced.
 """
 
@@ -73,43 +73,43 @@ BUNDLED: dict[str, ExportFormat] = {
             "ros",
             options=("scale", "cell"),
             summary="ROS and ROS 2 map_server occupancy map (PGM image + YAML)",
-            writer="mazegen.runtime.exporters.ros:ros_files",
+            writer="mazegen.runtime.exporters._ros:ros_files",
         ),
         ExportFormat(
             "gazebo",
             options=("scale",),
             summary="Gazebo world (SDF)",
-            writer="mazegen.runtime.exporters.gazebo:gazebo_files",
+            writer="mazegen.runtime.exporters._gazebo:gazebo_files",
         ),
         ExportFormat(
             "irsim",
             options=("scale",),
             summary="IR-SIM world (YAML)",
-            writer="mazegen.runtime.exporters.irsim:irsim_files",
+            writer="mazegen.runtime.exporters._irsim:irsim_files",
         ),
         ExportFormat(
             "movingai",
             options=("cell",),
             summary="MovingAI grid benchmark (.map + .scen)",
-            writer="mazegen.runtime.exporters.movingai:movingai_files",
+            writer="mazegen.runtime.exporters._movingai:movingai_files",
         ),
         ExportFormat(
             "json",
             options=(),
             summary="MazeGen's scenario document (JSON)",
-            writer="mazegen.runtime.exporters.documents:json_files",
+            writer="mazegen.runtime.exporters._documents:json_files",
         ),
         ExportFormat(
             "svg",
             options=(),
             summary="the scenario's picture (SVG)",
-            writer="mazegen.runtime.exporters.documents:svg_files",
+            writer="mazegen.runtime.exporters._documents:svg_files",
         ),
         ExportFormat(
             "png",
             options=(),
             summary="the scenario's picture (PNG)",
-            writer="mazegen.runtime.exporters.documents:png_files",
+            writer="mazegen.runtime.exporters._documents:png_files",
         ),
     )
 }

@@ -42,7 +42,7 @@ def factory(tmp_path_factory):
     """The built problem of examples/factory.maze; do not modify it."""
     import mazegen
     from mazegen.generator.build import build
-    from mazegen.runtime.engine.problem import Problem
+    from mazegen.runtime.engine._problem import Problem
 
     out = tmp_path_factory.mktemp("factory-build")
     build(mazegen.load(EXAMPLES / "factory.maze"), out)

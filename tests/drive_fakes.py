@@ -71,7 +71,7 @@ def build_problem(text: str, folder: Path):
     """The built problem of a spec ``text`` (written in ``folder``)."""
     from mazegen.dsl.loader import load_spec
     from mazegen.generator.build import build
-    from mazegen.runtime.engine.problem import Problem
+    from mazegen.runtime.engine._problem import Problem
 
     (folder / "spec.maze").write_text(text, encoding="utf-8")
     build(load_spec(folder / "spec.maze"), folder / "build")

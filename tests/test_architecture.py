@@ -31,14 +31,28 @@ def test_the_import_contracts_hold():
 def test_a_wrong_way_import_breaks_a_contract(tmp_path):
     shutil.copytree(ROOT / "mazegen", tmp_path / "mazegen", ignore=shutil.ignore_patterns("__pycache__"))
     shutil.copy(ROOT / "pyproject.toml", tmp_path)
-    population = tmp_path / "mazegen" / "runtime" / "engine" / "population.py"
+    population = tmp_path / "mazegen" / "runtime" / "engine" / "_population.py"
     population.write_text(
-        population.read_text() + "\n\ndef _late():\n    import mazegen.runtime.runs.launcher\n"
+        population.read_text() + "\n\ndef _late():\n    import mazegen.runtime.runs._launcher\n"
     )
     done = lint_imports(tmp_path)
     assert done.returncode != 0
     assert "Layers: each imports only those below it" in done.stdout
-    assert "mazegen.runtime.engine.population -> mazegen.runtime.runs.launcher" in done.stdout
+    assert "mazegen.runtime.engine._population -> mazegen.runtime.runs._launcher" in done.stdout
+
+
+def test_an_import_of_another_rooms_module_breaks_a_contract(tmp_path):
+    """Rooms meet at their ``__init__``: a module of another room is private to it."""
+    shutil.copytree(ROOT / "mazegen", tmp_path / "mazegen", ignore=shutil.ignore_patterns("__pycache__"))
+    shutil.copy(ROOT / "pyproject.toml", tmp_path)
+    metrics = tmp_path / "mazegen" / "runtime" / "metrics.py"
+    metrics.write_text(
+        metrics.read_text() + "\n\ndef _reach():\n    import mazegen.runtime.navigation._paths\n"
+    )
+    done = lint_imports(tmp_path)
+    assert done.returncode != 0
+    assert "A room's modules are private" in done.stdout and "BROKEN" in done.stdout
+    assert "mazegen.runtime.metrics -> mazegen.runtime.navigation._paths" in done.stdout
 
 
 def imports_of(package: Path) -> dict[str, set[str]]:
@@ -109,7 +123,18 @@ def test_a_cycle_through_a_function_level_import_is_found(tmp_path):
     assert cycles(imports_of(package)) == [{"pkg.a", "pkg.b", "pkg.c"}]
 
 
-ROOMS = ("engine", "geometry", "navigation", "documents", "reports", "runs", "catalog", "campaigns")
+ROOMS = (
+    "engine",
+    "geometry",
+    "navigation",
+    "simulation",
+    "documents",
+    "reports",
+    "exporters",
+    "runs",
+    "catalog",
+    "campaigns",
+)
 
 
 def test_each_room_states_its_public_names_and_each_resolves():
@@ -117,7 +142,7 @@ def test_each_room_states_its_public_names_and_each_resolves():
 
     for room in ROOMS:
         package = importlib.import_module(f"mazegen.runtime.{room}")
-        assert package.__all__ == sorted(package.__all__), room
+        assert len(set(package.__all__)) == len(package.__all__), room  # ruff (RUF022) keeps the order
         for name in package.__all__:
             home = getattr(
                 getattr(package, name), "__module__", f"mazegen.runtime.{room}."
@@ -127,6 +152,6 @@ def test_each_room_states_its_public_names_and_each_resolves():
 
 def test_a_module_of_a_room_imports_only_what_it_needs():
     """A room's public names load on first use: a run does not pay for the reports' matplotlib."""
-    probe = "import sys, mazegen.runtime.runs.launcher; print('matplotlib' in sys.modules)"
+    probe = "import sys, mazegen.runtime.runs._launcher; print('matplotlib' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "False"

@@ -248,7 +248,7 @@ def test_the_files_quoted_are_those_the_sample_run_writes(sample_run):
 
 
 def test_the_difficulty_of_the_example_floors_is_the_one_quoted():
-    from mazegen.runtime.navigation.difficulty import difficulty_score, survey
+    from mazegen.runtime.navigation._difficulty import difficulty_score, survey
     from tests.runtime.floors import ARENA, ZIGZAG, population
 
     text = " ".join((ROOT / "docs" / "difficulty.md").read_text(encoding="utf-8").split())

@@ -27,8 +27,7 @@ from mazegen.policies import is_policy_path, malformed_path
 from mazegen.text import printable
 
 if TYPE_CHECKING:
-    from mazegen.runtime.documents.driving import Drive, Floors, Summary
-    from mazegen.runtime.documents.floor import Floor
+    from mazegen.runtime.documents import Drive, Floor, Floors, Summary
     from mazegen.spec import Spec
 
 
@@ -103,9 +102,8 @@ def drive(
         raise MazeError("give at least one --controller NAME")
     names = controller_names(controllers)
     from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
-    from mazegen.runtime.documents.driving import Floors, summaries
-    from mazegen.runtime.documents.folders import scenario_files
-    from mazegen.runtime.runs.locks import folder_in_use
+    from mazegen.runtime.documents import Floors, scenario_files, summaries
+    from mazegen.runtime.runs import folder_in_use
 
     resolved = _load_spec(spec)
     say = partial(click.echo, err=True)
@@ -150,8 +148,7 @@ def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[lis
     """Each scenario file read, completed from its spec and checked against it (a robot can be sized on
     its arena); one that cannot be is reported on one line and left out (a lone file's error ends
     the command). A floor with a start and goal of its own is driven on them, with a note."""
-    from mazegen.runtime.documents.driving import driving_robot
-    from mazegen.runtime.documents.floor import load_floor
+    from mazegen.runtime.documents import driving_robot, load_floor
 
     floors, failed = [], False
     for path, _ in files:
@@ -242,9 +239,8 @@ def _write(floors: list[Floor], drives: list[list[Drive]], subfolders: dict[Path
     written whole or not at all; every document is made before any is written, so one that cannot
     be leaves every file as it was."""
     from mazegen.fileio import write_atomic
-    from mazegen.runtime.documents.driving import with_drives
-    from mazegen.runtime.documents.scenario import dumps
-    from mazegen.runtime.reports.render import render_file
+    from mazegen.runtime.documents import dumps, with_drives
+    from mazegen.runtime.reports import render_file
 
     made = []
     for floor, row in zip(floors, drives):

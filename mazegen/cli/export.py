@@ -61,8 +61,7 @@ def export(
 ) -> None:
     """Export SOURCE (a scenario JSON file, or every best scenario of a run or suite directory)."""
     from mazegen.export_formats import export_format
-    from mazegen.runtime.exporters.batch import default_out_dir, export_plan, write_files
-    from mazegen.runtime.exporters.floor import ExportOptions
+    from mazegen.runtime.exporters import ExportOptions, default_out_dir, export_plan, write_files
 
     options = ExportOptions(scale=scale, cell=cell)  # options and format checked before anything is read
     row = export_format(fmt)

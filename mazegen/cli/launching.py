@@ -16,8 +16,8 @@ from mazegen.errors import MazeError
 from mazegen.text import printable
 
 if TYPE_CHECKING:
-    from mazegen.runtime.engine.problem import Problem
-    from mazegen.runtime.runs.progress import Reporter
+    from mazegen.runtime.engine import Problem
+    from mazegen.runtime.runs import Reporter
     from mazegen.spec import Spec
 
 F = TypeVar("F", bound=Callable[..., Any])
@@ -92,15 +92,14 @@ def compile_first(source: Spec | Path | Problem, executor: str, reporter: Report
         The seconds it took (0 when nothing was compiled), for the runs to count.
     """
     from mazegen.runtime import kernels_cached, run_kernels
-    from mazegen.runtime.engine.problem import Problem, read_build_spec
+    from mazegen.runtime.engine import Problem, read_build_spec
 
     if executor == "dask":
         return 0.0
     spec = source.spec if isinstance(source, Problem) else source
     if kernels_cached(run_kernels(read_build_spec(spec) if isinstance(spec, Path) else spec)):
         return 0.0
-    from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
-    from mazegen.runtime.runs.warmup import compile_kernels
+    from mazegen.runtime.runs import FIRST_COMPILE_NOTE, compile_kernels
 
     started = monotonic()
     reporter.note(FIRST_COMPILE_NOTE)
@@ -119,7 +118,7 @@ def compile_first(source: Spec | Path | Problem, executor: str, reporter: Report
 
 def reports_interruption(command: F) -> F:
     """Wrap a command so that Ctrl-C ends it with one line saying how to continue, and status 130."""
-    from mazegen.runtime.runs.launcher import RunsInterrupted
+    from mazegen.runtime.runs import RunsInterrupted
 
     @functools.wraps(command)
     def wrapper(*args: Any, **kwargs: Any) -> Any:

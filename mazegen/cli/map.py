@@ -70,8 +70,7 @@ def map_command(
 
     GRAMMAR is a BNF file, or a spec (.maze) whose grammar is built on the fly.
     """
-    from mazegen.runtime.engine.bnf import parse_bnf, read_bnf
-    from mazegen.runtime.engine.mapping import map_genome
+    from mazegen.runtime.engine import map_genome, parse_bnf, read_bnf
 
     settings = Evolution()  # a bare grammar maps with the defaults
     if grammar.suffix == ".maze":

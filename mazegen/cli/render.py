@@ -28,13 +28,8 @@ from mazegen.text import printable
 @reports_errors
 def render(scenario: Path, out: Path, spec: Path | None) -> None:
     """Draw SCENARIO (a scenario JSON file) as SVG or PNG."""
-    from mazegen.runtime.documents.scenario import (
-        check_complete,
-        completed_document,
-        has_parts,
-        read_document,
-    )
-    from mazegen.runtime.reports.render import render_file
+    from mazegen.runtime.documents import check_complete, completed_document, has_parts, read_document
+    from mazegen.runtime.reports import render_file
 
     document = read_document(scenario)
     if spec is not None:

@@ -25,7 +25,7 @@ def report(folder: Path, out: Path | None, force: bool) -> None:
     """Write a self-contained HTML report of FOLDER (a run, suite or sweep folder): settings, the
     best scenarios (linked to their pictures and JSON files), fitness and distributions."""
     from mazegen.fileio import write_atomic
-    from mazegen.runtime.reports.report_folders import folder_report
+    from mazegen.runtime.reports import folder_report
 
     target = out or folder / "report.html"
     if target.exists() and not force:

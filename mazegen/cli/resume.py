@@ -24,8 +24,7 @@ def resume(run_dir: Path, quiet: bool, **options: Any) -> None:
     """
     from mazegen import api
     from mazegen.errors import MazeError
-    from mazegen.runtime.runs.command_line import NO_SCENARIO, closing_lines, summary_lines
-    from mazegen.runtime.runs.progress import reporter_for
+    from mazegen.runtime.runs import NO_SCENARIO, closing_lines, reporter_for, summary_lines
 
     reporter = reporter_for(quiet=quiet)
     try:

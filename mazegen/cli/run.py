@@ -48,10 +48,15 @@ def run(
     """
     from mazegen import api
     from mazegen.errors import MazeError
-    from mazegen.runtime.engine.problem import read_build_spec
-    from mazegen.runtime.runs.command_line import NO_SCENARIO, closing_lines, summary_lines
-    from mazegen.runtime.runs.experiment import default_run_dir, with_overrides
-    from mazegen.runtime.runs.progress import reporter_for
+    from mazegen.runtime.engine import read_build_spec
+    from mazegen.runtime.runs import (
+        NO_SCENARIO,
+        closing_lines,
+        default_run_dir,
+        reporter_for,
+        summary_lines,
+        with_overrides,
+    )
 
     spec = api.load(source) if source.is_file() else read_build_spec(source)
     what = spec if source.is_file() else source  # a spec, or the build directory to run as it is

@@ -41,8 +41,7 @@ catalog_option = click.option(
 def runs(catalog: Path, scenario: str | None) -> None:
     """List every run of the catalog: experiment directory, status, settings, best fitness, time."""
     from mazegen.cli.table import text_table
-    from mazegen.runtime.catalog.catalog import Catalog
-    from mazegen.runtime.catalog.catalog_query import run_rows
+    from mazegen.runtime.catalog import Catalog, run_rows
 
     with Catalog.open(catalog, create=False) as opened:
         rows = run_rows(opened, scenario=scenario)

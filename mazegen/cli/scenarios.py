@@ -69,8 +69,7 @@ def scenarios(
 ) -> None:
     """List saved scenarios, best first: a table, or their paths for scripts."""
     from mazegen.cli.table import text_table
-    from mazegen.runtime.catalog.catalog import Catalog
-    from mazegen.runtime.catalog.catalog_query import Condition, ScenarioQuery, scenario_rows
+    from mazegen.runtime.catalog import Catalog, Condition, ScenarioQuery, scenario_rows
 
     parsed = [Condition.parse(text) for text in conditions]
     if min_elements is not None:

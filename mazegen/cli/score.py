@@ -21,7 +21,7 @@ from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.errors import MazeError
 
 if TYPE_CHECKING:
-    from mazegen.runtime.documents.scoring import Scored
+    from mazegen.runtime.documents import Scored
 
 
 @click.command()
@@ -44,9 +44,7 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
     names = controller_names(controllers) if controllers else None
     from mazegen.dsl.loader import load_spec
     from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
-    from mazegen.runtime.documents.driving import driving_robot, spec_controllers
-    from mazegen.runtime.documents.folders import scenario_files
-    from mazegen.runtime.documents.scoring import Scorer
+    from mazegen.runtime.documents import Scorer, driving_robot, scenario_files, spec_controllers
 
     resolved = load_spec(spec)
     names = spec_controllers(resolved) if names is None else names

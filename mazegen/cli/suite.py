@@ -60,9 +60,9 @@ def suite(
 
     from mazegen.dsl.loader import load_spec
     from mazegen.generator.build import build
-    from mazegen.runtime.campaigns.suite import SuiteSettings, fill_archive, suite_documents, write_suite
-    from mazegen.runtime.engine.problem import Problem
-    from mazegen.runtime.runs.progress import reporter_for
+    from mazegen.runtime.campaigns import SuiteSettings, fill_archive, suite_documents, write_suite
+    from mazegen.runtime.engine import Problem
+    from mazegen.runtime.runs import reporter_for
 
     resolved = load_spec(spec)
     settings = resolved.evolution

@@ -52,9 +52,8 @@ def sweep(
     """
     from mazegen import api
     from mazegen.errors import MazeError
-    from mazegen.runtime.campaigns.sweep import parse_axes, sweep_name
-    from mazegen.runtime.runs.command_line import NO_SCENARIO, summary_lines
-    from mazegen.runtime.runs.progress import reporter_for
+    from mazegen.runtime.campaigns import parse_axes, sweep_name
+    from mazegen.runtime.runs import NO_SCENARIO, reporter_for, summary_lines
 
     parsed = parse_axes(axes)
     resolved = [api.load(path) for path in specs]

@@ -91,7 +91,7 @@ def _check_buildable(spec: Spec, grammar: str) -> None:
     """Refuse a spec (made in Python, or edited) whose files could not run: ``inf`` would reach
     fitness.py as a name and spec.json as ``Infinity``, a bad grammar would fail the run in a
     folder the user never sees. The language already refuses both at ``check``."""
-    from mazegen.runtime.engine.bnf import parse_bnf  # the runtime (numba) only when building
+    from mazegen.runtime.engine import parse_bnf
 
     for where in _non_finite(dataclasses.asdict(spec), ""):
         raise MazeError(f"the spec holds a non-finite number at {where}", filename=spec.source)

@@ -62,7 +62,7 @@ if not os.environ.get("NUMBA_CACHE_DIR"):  # a folder the user chose wins
     numba.config.CACHE_DIR = str(_cache)  # type: ignore[attr-defined]  # set at import by numba
 
 
-EVERY_RUN_KERNELS = ("mapping._map_all", "difficulty._survey_all")
+EVERY_RUN_KERNELS = ("_mapping._map_all", "_difficulty._survey_all")
 """Kernels every run calls, first and last (its scenario files' metrics): a cache without
 both was never filled, or its filling was cut short."""
 

@@ -5,6 +5,6 @@ Generated code imports the top level of :mod:`mazegen.runtime` only: this module
 put, so a build folder made by an earlier version still runs.
 """
 
-from mazegen.runtime.runs.command_line import main
+from mazegen.runtime.runs import main
 
 __all__ = ["main"]

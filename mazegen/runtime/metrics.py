@@ -16,10 +16,10 @@ from numba import njit
 from mazegen.errors import MazeError
 from mazegen.metric_plugins import metric_function
 from mazegen.runtime import simulation
-from mazegen.runtime.engine.population import SX, SY, Population
-from mazegen.runtime.geometry.overlap import elements_outside as elements_outside_of
-from mazegen.runtime.geometry.overlap import overlapping_pairs as overlapping_pairs_of
-from mazegen.runtime.navigation.measures import navigation_of, reach_of, survey_of
+from mazegen.runtime.engine import SX, SY, Population
+from mazegen.runtime.geometry import elements_outside as elements_outside_of
+from mazegen.runtime.geometry import overlapping_pairs as overlapping_pairs_of
+from mazegen.runtime.navigation import navigation_of, reach_of, survey_of
 from mazegen.runtime.plugin_view import Floors
 from mazegen.spec import Robot, robot_for
 

@@ -14,11 +14,9 @@ from functools import cached_property
 
 import numpy as np
 
-from mazegen.runtime.engine.population import SX, SY, THETA, Population, X, Y
-from mazegen.runtime.geometry.cspace import grid_of
-from mazegen.runtime.geometry.elements import element_bounds, world_parts
-from mazegen.runtime.navigation.measures import corner_paths_of, navigation_of, reach_of
-from mazegen.runtime.navigation.paths import free_cells
+from mazegen.runtime.engine import SX, SY, THETA, Population, X, Y
+from mazegen.runtime.geometry import element_bounds, grid_of, world_parts
+from mazegen.runtime.navigation import corner_paths_of, free_cells, navigation_of, reach_of
 from mazegen.spec import Arena, metres_per_unit
 
 

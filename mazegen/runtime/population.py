@@ -3,6 +3,6 @@
 See :mod:`mazegen.runtime.experiment` for why generated code imports only the top level.
 """
 
-from mazegen.runtime.engine.population import Population
+from mazegen.runtime.engine import Population
 
 __all__ = ["Population"]

@@ -23,7 +23,7 @@ import mazegen
 import mazegen.runtime.simulation as simulation
 from mazegen.cli.main import main
 from mazegen.errors import MazeError
-from mazegen.runtime.documents.scenario import read_document
+from mazegen.runtime.documents._scenario import read_document
 from mazegen.spec import robot_for
 from tests.conftest import EXAMPLES, ROOT
 from tests.runtime.fake_drive import fake_drive
@@ -246,7 +246,7 @@ def test_score_prints_the_drive_of_each_controller_asked_for(suite, monkeypatch)
 
 
 def test_score_drives_the_controllers_the_spec_names_by_default():
-    from mazegen.runtime.documents.driving import spec_controllers
+    from mazegen.runtime.documents._driving import spec_controllers
     from mazegen.spec import ControllerSpec, FitnessTerm
 
     spec = mazegen.load(EXAMPLES / "factory.maze")
@@ -267,7 +267,7 @@ def test_a_drive_that_compiles_says_so_once_and_one_that_does_not_says_nothing(s
     from numba import njit
 
     from mazegen.runtime.compiling import DRIVE_SECONDS, compile_note
-    from mazegen.runtime.documents.driving import Floors
+    from mazegen.runtime.documents._driving import Floors
 
     monkeypatch.undo()  # the real note, not the tests' silence (conftest)
     real_drive = Floors.drive
@@ -362,7 +362,7 @@ def test_a_malformed_policy_path_is_one_line_before_anything_is_read(tmp_path, m
 
 def with_arena(path: Path, elements: list[dict], **changes) -> Path:
     """A floor whose ``arena`` is the factory spec's with ``changes``."""
-    from mazegen.runtime.documents.scenario import arena_document
+    from mazegen.runtime.documents._scenario import arena_document
 
     arena = {**arena_document(mazegen.load(EXAMPLES / "factory.maze")), **changes}
     document = {"format": "mazegen-scenario", "version": 1, "scenario": "factory", "elements": elements}
@@ -423,7 +423,7 @@ def test_out_holds_the_folder_so_a_second_drive_into_it_is_refused_and_loses_not
     factory_run, tmp_path, monkeypatch
 ):
     from mazegen.runtime.runs import locks
-    from mazegen.runtime.runs.results import RunDirectoryWriter
+    from mazegen.runtime.runs._results import RunDirectoryWriter
 
     if locks.fcntl is None:
         pytest.skip("folders are locked with flock")

@@ -16,8 +16,8 @@ from click.testing import CliRunner
 import mazegen
 from mazegen.cli.main import main
 from mazegen.export_formats import BUNDLED, OPTIONS
-from mazegen.runtime.exporters.batch import export_plan
-from mazegen.runtime.exporters.floor import ExportOptions
+from mazegen.runtime.exporters._batch import export_plan
+from mazegen.runtime.exporters._floor import ExportOptions
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 

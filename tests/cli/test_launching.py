@@ -9,14 +9,14 @@ from click.testing import CliRunner
 import mazegen
 import mazegen.cli.launching
 import mazegen.runtime
-import mazegen.runtime.runs.warmup
+import mazegen.runtime.runs._warmup
 from mazegen.cli.launching import compile_first
 from mazegen.cli.main import main
-from mazegen.runtime.catalog.catalog import Catalog
-from mazegen.runtime.catalog.catalog_query import run_rows
-from mazegen.runtime.engine.problem import Problem
-from mazegen.runtime.reports.report import read_run
-from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
+from mazegen.runtime.catalog._catalog import Catalog
+from mazegen.runtime.catalog._catalog_query import run_rows
+from mazegen.runtime.engine._problem import Problem
+from mazegen.runtime.reports._report import read_run
+from mazegen.runtime.runs._progress import FIRST_COMPILE_NOTE
 from tests.conftest import EXAMPLES
 from tests.runtime.runs.test_progress import Notes
 
@@ -24,7 +24,7 @@ from tests.runtime.runs.test_progress import Notes
 def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
     compiled = []
     monkeypatch.setattr(
-        mazegen.runtime.runs.warmup, "compile_kernels", lambda problem: compiled.append(problem)
+        mazegen.runtime.runs._warmup, "compile_kernels", lambda problem: compiled.append(problem)
     )
     spec = mazegen.load(EXAMPLES / "factory.maze")
     mazegen.build(spec, tmp_path / "build")
@@ -49,7 +49,7 @@ def test_only_a_first_local_run_compiles_ahead(monkeypatch, tmp_path):
 def test_the_kernels_compiled_ahead_count_in_the_first_runs_first_generation(monkeypatch, tmp_path):
     # A first run waited minutes for its kernels, yet its report said it took 0.14 seconds: only its
     # generations were timed, and the kernels had been compiled before the first one.
-    monkeypatch.setattr(mazegen.runtime.runs.warmup, "compile_kernels", lambda problem: None)
+    monkeypatch.setattr(mazegen.runtime.runs._warmup, "compile_kernels", lambda problem: None)
     monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): False)
     clock = iter([100.0, 1100.0])  # compiling ahead took 1000 seconds
     monkeypatch.setattr(mazegen.cli.launching, "monotonic", lambda: next(clock))

@@ -6,9 +6,9 @@ from __future__ import annotations
 from click.testing import CliRunner
 
 import mazegen.runtime
-import mazegen.runtime.runs.warmup
+import mazegen.runtime.runs._warmup
 from mazegen.cli.main import main
-from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE
+from mazegen.runtime.runs._progress import FIRST_COMPILE_NOTE
 from tests.conftest import EXAMPLES
 
 # The grammar's text escapes decode to ESC ] 0 ; TITLE BEL: a terminal would take the title.
@@ -51,7 +51,7 @@ def test_check_prints_a_file_name_with_control_characters_escaped(write_spec):
 
 def test_the_compile_note_is_one_line_in_a_pipe(write_spec, tmp_path, monkeypatch):
     # Rich wrapped it at 80 columns, mid-sentence, for whatever read standard error.
-    monkeypatch.setattr(mazegen.runtime.runs.warmup, "compile_kernels", lambda problem: None)
+    monkeypatch.setattr(mazegen.runtime.runs._warmup, "compile_kernels", lambda problem: None)
     monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): False)
     monkeypatch.delenv("COLUMNS", raising=False)
     assert len(FIRST_COMPILE_NOTE) > 80

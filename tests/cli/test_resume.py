@@ -17,8 +17,8 @@ from click.testing import CliRunner
 
 import mazegen
 from mazegen.cli.main import main
-from mazegen.runtime.runs.launcher import RunsInterrupted
-from mazegen.runtime.runs.progress import QuietReporter
+from mazegen.runtime.runs._launcher import RunsInterrupted
+from mazegen.runtime.runs._progress import QuietReporter
 from tests.conftest import EXAMPLES
 from tests.runtime.rundirs import file_digests
 

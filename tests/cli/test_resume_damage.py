@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mazegen.runtime.runs.checkpoint import RunState, checkpoint_bytes, read_checkpoint
-from mazegen.runtime.runs.results import RunDirectoryWriter
+from mazegen.runtime.runs._checkpoint import RunState, checkpoint_bytes, read_checkpoint
+from mazegen.runtime.runs._results import RunDirectoryWriter
 from tests.runtime.rundirs import Killed, file_digests, invoke, small_run
 
 

@@ -14,8 +14,8 @@ import pytest
 from mazegen.dsl.loader import load_spec
 from mazegen.errors import MazeError
 from mazegen.generator.build import ARTIFACTS, build, render_artifacts
-from mazegen.runtime.engine.bnf import parse_bnf
-from mazegen.runtime.engine.mapping import map_genome
+from mazegen.runtime.engine._bnf import parse_bnf
+from mazegen.runtime.engine._mapping import map_genome
 from mazegen.spec import FitnessTerm
 from tests.conftest import EXAMPLES
 
@@ -166,7 +166,7 @@ def test_custom_rules_separate_rules_that_derive_words(write_spec, tmp_path):
     spec = load_spec(path)
     assert rules_of(render_artifacts(spec)["grammar.bnf"]).splitlines()[0] == "<s> ::= <e> <s> | <e>"
     build(spec, tmp_path / "b")
-    from mazegen.runtime.engine.problem import Problem
+    from mazegen.runtime.engine._problem import Problem
 
     problem = Problem.from_build_dir(tmp_path / "b")
     codons = np.array([[0, 0, 1, 1, 0]], dtype=np.int32)  # <e> <s>: square, then <e>: lshape

@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 from types import SimpleNamespace
 
-from mazegen.runtime.catalog.catalog import Catalog
+from mazegen.runtime.catalog._catalog import Catalog
 
 
 def write_experiments(path: str, writer: int, count: int) -> None:

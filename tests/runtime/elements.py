@@ -7,7 +7,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from mazegen.dsl.shapes import bar_parts, polygon_parts, rect_parts, regular_polygon_parts, triangle_parts
-from mazegen.runtime.geometry.elements import ElementTable, world_parts
+from mazegen.runtime.geometry._elements import ElementTable, world_parts
 from mazegen.spec import ElementType
 
 TYPES = (

@@ -14,8 +14,8 @@ import shapely
 from shapely.geometry import Polygon, box
 
 import mazegen
-from mazegen.runtime.engine.population import Population
-from mazegen.runtime.geometry.elements import ElementTable
+from mazegen.runtime.engine._population import Population
+from mazegen.runtime.geometry._elements import ElementTable
 from mazegen.spec import Arena
 from tests.conftest import EXAMPLES
 

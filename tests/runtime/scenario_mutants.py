@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 import mazegen
-from mazegen.runtime.documents.scenario import completed_document
+from mazegen.runtime.documents._scenario import completed_document
 from tests.conftest import EXAMPLES
 
 HAND = [

@@ -13,7 +13,7 @@ import pytest
 
 from mazegen.runtime import metrics, simulation
 from mazegen.runtime.engine import operators as ops
-from mazegen.runtime.engine.evolution import evolve
+from mazegen.runtime.engine._evolution import evolve
 from mazegen.runtime.simulation import ARRIVED
 from mazegen.spec import Evolution, FitnessTerm
 from tests.conftest import EXAMPLES
@@ -201,7 +201,7 @@ def test_a_policy_a_build_cannot_find_is_said_as_the_simulator_says_it_not_as_fi
     """A build's spec.json is not read by the language, which would have named the spec's line."""
     from mazegen.errors import MazeError
     from mazegen.generator.build import build
-    from mazegen.runtime.engine.problem import Problem
+    from mazegen.runtime.engine._problem import Problem
 
     term = FitnessTerm("drive", metric="fails", controllers=("nosuch_policy_module:policy",))
     build(dataclasses.replace(driving.spec, fitness=(term,)), tmp_path)
@@ -218,7 +218,7 @@ def test_the_first_run_says_it_compiles_when_only_the_simulator_is_missing(drivi
     import mazegen.runtime
     from mazegen.cli.launching import compile_first
     from mazegen.runtime import EVERY_RUN_KERNELS
-    from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE, QuietReporter
+    from mazegen.runtime.runs._progress import FIRST_COMPILE_NOTE, QuietReporter
 
     asked: list[tuple[str, ...]] = []
 
@@ -229,7 +229,7 @@ def test_the_first_run_says_it_compiles_when_only_the_simulator_is_missing(drivi
     compiled = []
     monkeypatch.setattr(mazegen.runtime, "kernels_cached", cached)
     monkeypatch.setattr(
-        "mazegen.runtime.runs.warmup.compile_kernels", lambda problem: compiled.append(problem.spec.name)
+        "mazegen.runtime.runs._warmup.compile_kernels", lambda problem: compiled.append(problem.spec.name)
     )
     compile_first(driving, "serial", QuietReporter())
     assert set(asked[-1]) > set(EVERY_RUN_KERNELS)
@@ -238,7 +238,7 @@ def test_the_first_run_says_it_compiles_when_only_the_simulator_is_missing(drivi
 
 
 def test_the_warm_up_drives_each_controller_once(driving, fake_drive):
-    from mazegen.runtime.runs.warmup import compile_path_kernels
+    from mazegen.runtime.runs._warmup import compile_path_kernels
 
     compile_path_kernels(driving.spec)
     assert [name for name, _ in fake_drive.calls] == ["dwa", "straight"]
@@ -268,7 +268,7 @@ def fails_in_document(problem, document) -> bool:
 
 
 def test_the_best_scenarios_written_carry_their_whole_fitness(tmp_path, fake_drive):
-    from mazegen.runtime.documents.best import best_documents
+    from mazegen.runtime.documents._best import best_documents
 
     problem = build_problem(DRIVING.replace("drive best 0.25", "drive best 0.1"), tmp_path)
     result = evolve(problem, Evolution(population=40, generations=2), np.random.default_rng(2))

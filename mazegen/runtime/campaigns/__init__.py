@@ -8,15 +8,25 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mazegen.runtime.campaigns.suite import fill_archive, write_suite
-    from mazegen.runtime.campaigns.sweep import plan_cells
+    from mazegen.runtime.campaigns._suite import SuiteSettings, fill_archive, suite_documents, write_suite
+    from mazegen.runtime.campaigns._sweep import MAX_CELLS, Axis, parse_axes, plan_cells, sweep_name
 
-__all__ = ["fill_archive", "plan_cells", "write_suite"]
+__all__ = [
+    "MAX_CELLS",
+    "Axis",
+    "SuiteSettings",
+    "fill_archive",
+    "parse_axes",
+    "plan_cells",
+    "suite_documents",
+    "sweep_name",
+    "write_suite",
+]
 
 __getattr__ = lazy_names(
     __name__,
     {
-        "suite": ["fill_archive", "write_suite"],
-        "sweep": ["plan_cells"],
+        "_suite": ["fill_archive", "suite_documents", "SuiteSettings", "write_suite"],
+        "_sweep": ["Axis", "MAX_CELLS", "parse_axes", "plan_cells", "sweep_name"],
     },
 )

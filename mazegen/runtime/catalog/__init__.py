@@ -9,15 +9,22 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mazegen.runtime.catalog.catalog import Catalog, default_catalog
-    from mazegen.runtime.catalog.catalog_query import ScenarioQuery, run_rows, scenario_rows
+    from mazegen.runtime.catalog._catalog import Catalog, default_catalog
+    from mazegen.runtime.catalog._catalog_query import Condition, ScenarioQuery, run_rows, scenario_rows
 
-__all__ = ["Catalog", "ScenarioQuery", "default_catalog", "run_rows", "scenario_rows"]
+__all__ = [
+    "Catalog",
+    "Condition",
+    "ScenarioQuery",
+    "default_catalog",
+    "run_rows",
+    "scenario_rows",
+]
 
 __getattr__ = lazy_names(
     __name__,
     {
-        "catalog": ["Catalog", "default_catalog"],
-        "catalog_query": ["ScenarioQuery", "run_rows", "scenario_rows"],
+        "_catalog": ["Catalog", "default_catalog"],
+        "_catalog_query": ["Condition", "run_rows", "scenario_rows", "ScenarioQuery"],
     },
 )

@@ -10,42 +10,83 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mazegen.runtime.documents.best import best_documents
-    from mazegen.runtime.documents.floor import Floor, load_floor
-    from mazegen.runtime.documents.folders import RunDirectory, SuiteDirectory, scenario_files
-    from mazegen.runtime.documents.scenario import (
+    from mazegen.runtime.documents._best import best_documents, row_document
+    from mazegen.runtime.documents._driving import (
+        Drive,
+        Floors,
+        Summary,
+        driving_robot,
+        spec_controllers,
+        summaries,
+        with_drives,
+    )
+    from mazegen.runtime.documents._floor import Floor, load_floor, safe_name
+    from mazegen.runtime.documents._folders import RunDirectory, SuiteDirectory, scenario_files
+    from mazegen.runtime.documents._scenario import (
+        check_complete,
+        completed_document,
         dumps,
+        has_parts,
         population_from_document,
         read_document,
         scenario_document,
     )
-    from mazegen.runtime.documents.scenario_rules import check_document
-    from mazegen.runtime.documents.scoring import Scored, Scorer
+    from mazegen.runtime.documents._scenario_rules import check_document
+    from mazegen.runtime.documents._scoring import Scored, Scorer
 
 __all__ = [
+    "Drive",
     "Floor",
+    "Floors",
     "RunDirectory",
     "Scored",
     "Scorer",
     "SuiteDirectory",
+    "Summary",
     "best_documents",
+    "check_complete",
     "check_document",
+    "completed_document",
+    "driving_robot",
     "dumps",
+    "has_parts",
     "load_floor",
     "population_from_document",
     "read_document",
+    "row_document",
+    "safe_name",
     "scenario_document",
     "scenario_files",
+    "spec_controllers",
+    "summaries",
+    "with_drives",
 ]
 
 __getattr__ = lazy_names(
     __name__,
     {
-        "best": ["best_documents"],
-        "floor": ["Floor", "load_floor"],
-        "folders": ["RunDirectory", "SuiteDirectory", "scenario_files"],
-        "scenario": ["dumps", "population_from_document", "read_document", "scenario_document"],
-        "scenario_rules": ["check_document"],
-        "scoring": ["Scored", "Scorer"],
+        "_best": ["best_documents", "row_document"],
+        "_driving": [
+            "Drive",
+            "driving_robot",
+            "Floors",
+            "spec_controllers",
+            "summaries",
+            "Summary",
+            "with_drives",
+        ],
+        "_floor": ["Floor", "load_floor", "safe_name"],
+        "_folders": ["RunDirectory", "scenario_files", "SuiteDirectory"],
+        "_scenario": [
+            "check_complete",
+            "completed_document",
+            "dumps",
+            "has_parts",
+            "population_from_document",
+            "read_document",
+            "scenario_document",
+        ],
+        "_scenario_rules": ["check_document"],
+        "_scoring": ["Scored", "Scorer"],
     },
 )

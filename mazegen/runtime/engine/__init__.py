@@ -10,16 +10,48 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mazegen.runtime.engine.bnf import Grammar, parse_bnf, read_bnf
-    from mazegen.runtime.engine.breeding import breed
-    from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
-    from mazegen.runtime.engine.compiled_grammar import CompiledGrammar, compile_grammar
-    from mazegen.runtime.engine.evolution import GenerationStats, RunResult, evolve
-    from mazegen.runtime.engine.mapping import PopulationMap, map_genome, map_population, phenotype
-    from mazegen.runtime.engine.population import Population, Ranges, decode
-    from mazegen.runtime.engine.problem import Evaluation, Problem, Workspace
+    from mazegen.runtime.engine._bnf import Grammar, parse_bnf, read_bnf
+    from mazegen.runtime.engine._breeding import breed, make_children
+    from mazegen.runtime.engine._cache import EvaluationCache, genome_hashes
+    from mazegen.runtime.engine._compiled_grammar import CompiledGrammar, compile_grammar
+    from mazegen.runtime.engine._evolution import (
+        EVALUATION_CHUNK,
+        GenerationStats,
+        RunResult,
+        RunState,
+        evolve,
+        generation_stats,
+    )
+    from mazegen.runtime.engine._mapping import PopulationMap, map_genome, map_population, phenotype
+    from mazegen.runtime.engine._operators import random_codons, random_genes, ranking
+    from mazegen.runtime.engine._population import (
+        PLACEMENT_GENES,
+        SX,
+        SY,
+        THETA,
+        Population,
+        Ranges,
+        X,
+        Y,
+        decode,
+    )
+    from mazegen.runtime.engine._problem import (
+        REJECTED,
+        Evaluation,
+        Problem,
+        Workspace,
+        compiled_bnf,
+        load_fitness,
+        read_build_spec,
+    )
 
 __all__ = [
+    "EVALUATION_CHUNK",
+    "PLACEMENT_GENES",
+    "REJECTED",
+    "SX",
+    "SY",
+    "THETA",
     "CompiledGrammar",
     "Evaluation",
     "EvaluationCache",
@@ -30,29 +62,56 @@ __all__ = [
     "Problem",
     "Ranges",
     "RunResult",
+    "RunState",
     "Workspace",
+    "X",
+    "Y",
     "breed",
     "compile_grammar",
+    "compiled_bnf",
     "decode",
     "evolve",
+    "generation_stats",
     "genome_hashes",
+    "load_fitness",
+    "make_children",
     "map_genome",
     "map_population",
     "parse_bnf",
     "phenotype",
+    "random_codons",
+    "random_genes",
+    "ranking",
     "read_bnf",
+    "read_build_spec",
 ]
 
 __getattr__ = lazy_names(
     __name__,
     {
-        "bnf": ["Grammar", "parse_bnf", "read_bnf"],
-        "cache": ["EvaluationCache", "genome_hashes"],
-        "compiled_grammar": ["CompiledGrammar", "compile_grammar"],
-        "breeding": ["breed"],
-        "evolution": ["GenerationStats", "RunResult", "evolve"],
-        "mapping": ["PopulationMap", "map_genome", "map_population", "phenotype"],
-        "population": ["Population", "Ranges", "decode"],
-        "problem": ["Evaluation", "Problem", "Workspace"],
+        "_bnf": ["Grammar", "parse_bnf", "read_bnf"],
+        "_breeding": ["breed", "make_children"],
+        "_cache": ["EvaluationCache", "genome_hashes"],
+        "_compiled_grammar": ["compile_grammar", "CompiledGrammar"],
+        "_evolution": [
+            "EVALUATION_CHUNK",
+            "evolve",
+            "generation_stats",
+            "GenerationStats",
+            "RunResult",
+            "RunState",
+        ],
+        "_mapping": ["map_genome", "map_population", "phenotype", "PopulationMap"],
+        "_operators": ["random_codons", "random_genes", "ranking"],
+        "_population": ["decode", "PLACEMENT_GENES", "Population", "Ranges", "SX", "SY", "THETA", "X", "Y"],
+        "_problem": [
+            "compiled_bnf",
+            "Evaluation",
+            "load_fitness",
+            "Problem",
+            "read_build_spec",
+            "REJECTED",
+            "Workspace",
+        ],
     },
 )

@@ -9,21 +9,37 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mazegen.runtime.navigation.connectivity import Reach, reach
-    from mazegen.runtime.navigation.difficulty import Survey, survey
-    from mazegen.runtime.navigation.measures import navigation_of, reach_of, survey_of
-    from mazegen.runtime.navigation.paths import Navigation, free_cells, navigate, path_of
+    from mazegen.runtime.navigation._connectivity import Reach, reach
+    from mazegen.runtime.navigation._difficulty import Survey, survey
+    from mazegen.runtime.navigation._measures import corner_paths_of, navigation_of, reach_of, survey_of
+    from mazegen.runtime.navigation._paths import (
+        Navigation,
+        copy_points,
+        free_cells,
+        kernel_args,
+        navigate,
+        path_of,
+        paths_of,
+        route,
+        route_scratch,
+    )
 
 __all__ = [
     "Navigation",
     "Reach",
     "Survey",
+    "copy_points",
+    "corner_paths_of",
     "free_cells",
+    "kernel_args",
     "navigate",
     "navigation_of",
     "path_of",
+    "paths_of",
     "reach",
     "reach_of",
+    "route",
+    "route_scratch",
     "survey",
     "survey_of",
 ]
@@ -31,9 +47,19 @@ __all__ = [
 __getattr__ = lazy_names(
     __name__,
     {
-        "connectivity": ["Reach", "reach"],
-        "difficulty": ["Survey", "survey"],
-        "measures": ["navigation_of", "reach_of", "survey_of"],
-        "paths": ["Navigation", "free_cells", "navigate", "path_of"],
+        "_connectivity": ["Reach", "reach"],
+        "_difficulty": ["Survey", "survey"],
+        "_measures": ["corner_paths_of", "navigation_of", "reach_of", "survey_of"],
+        "_paths": [
+            "copy_points",
+            "free_cells",
+            "kernel_args",
+            "navigate",
+            "Navigation",
+            "path_of",
+            "paths_of",
+            "route",
+            "route_scratch",
+        ],
     },
 )

@@ -37,8 +37,8 @@ __all__ = [
 __getattr__ = lazy_names(
     __name__,
     {
-        "_episodes": ["ARRIVED", "COLLISION", "NO_PATH", "OUTCOMES", "TIMEOUT", "Episodes", "barn_score"],
         "_drive": ["drive"],
+        "_episodes": ["ARRIVED", "barn_score", "COLLISION", "Episodes", "NO_PATH", "OUTCOMES", "TIMEOUT"],
         "_policy": ["Observations"],
     },
 )

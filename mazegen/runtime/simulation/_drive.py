@@ -19,7 +19,7 @@ import numpy as np
 
 from mazegen.controllers import FIELDS
 from mazegen.errors import MazeError
-from mazegen.runtime.engine.population import Population
+from mazegen.runtime.engine import Population
 from mazegen.runtime.simulation._choice import choose
 from mazegen.runtime.simulation._episodes import NO_PATH, Episodes
 from mazegen.runtime.simulation._fields import floor_fields

@@ -1,6 +1,6 @@
 """The fields the map-reading controllers look up: a navigation function and a clearance field per floor.
 
-Both live on the configuration-space grid of :func:`mazegen.runtime.geometry.cspace.grid_of`
+Both live on the configuration-space grid of :func:`mazegen.runtime.geometry._cspace.grid_of`
 (cell ``(r, c)`` has its centre at ``((c + .5) cell, (r + .5) cell)``):
 
 - ``clear``: the Euclidean distance from each cell centre to the nearest occupied cell's centre
@@ -25,13 +25,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.geometry.bits import is_set
-from mazegen.runtime.geometry.cspace import cspace, grid_args, grid_of, raster_arrays
-from mazegen.runtime.navigation.paths import kernel_args
+from mazegen.runtime.geometry import cspace, grid_args, grid_of, is_set, raster_arrays
+from mazegen.runtime.navigation import kernel_args
 from mazegen.runtime.threads import in_blocks
 
 if TYPE_CHECKING:
-    from mazegen.runtime.engine.population import Population
+    from mazegen.runtime.engine import Population
     from mazegen.spec import Robot
 
 CLEAR_ERROR = math.sqrt(0.5)

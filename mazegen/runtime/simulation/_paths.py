@@ -1,6 +1,6 @@
 """MazeGen's own paths of the driven floors: their lengths (BARN's optimal time) and corners.
 
-The search is :func:`mazegen.runtime.navigation.paths.route`, the one the solvability and
+The search is :func:`mazegen.runtime.navigation._paths.route`, the one the solvability and
 difficulty metrics run, so a floor's optimal time is the path length the metrics report (read
 from the population's navigation when the metrics have already searched it). It runs in parallel
 over the driven floors, each block of floors with its own scratch.
@@ -13,9 +13,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.engine.population import Population
-from mazegen.runtime.geometry.cspace import grid_args, grid_of
-from mazegen.runtime.navigation.paths import copy_points, kernel_args, route, route_scratch
+from mazegen.runtime.engine import Population
+from mazegen.runtime.geometry import grid_args, grid_of
+from mazegen.runtime.navigation import copy_points, kernel_args, route, route_scratch
 from mazegen.runtime.threads import in_blocks
 from mazegen.spec import Arena
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mazegen.controllers import LIMITS
-from mazegen.runtime.engine.population import Population
+from mazegen.runtime.engine import Population
 from mazegen.runtime.simulation._choice import Choice
 from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
 from mazegen.runtime.simulation._paths import FloorPaths

@@ -2,8 +2,8 @@
 
 The parts of all driven floors are flattened into one array, floor after floor, so a robot's
 kernel reads ``parts first[m] .. first[m + 1]`` of its floor ``m`` and nothing else. Vertices come
-from :func:`mazegen.runtime.geometry.elements.world_element`, the transform every other kernel
-(and :func:`~mazegen.runtime.geometry.elements.world_vertices`) uses, so the simulator collides
+from :func:`mazegen.runtime.geometry._elements.world_element`, the transform every other kernel
+(and :func:`~mazegen.runtime.geometry._elements.world_vertices`) uses, so the simulator collides
 with exactly the shapes the metrics and drawings see. Each part
 carries its bounding box: the collision, distance and lidar kernels cull on it before any exact
 test. The arena's four walls are the lines ``x = 0``, ``x = width``, ``y = 0``, ``y = height``.
@@ -16,8 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.engine.population import Population
-from mazegen.runtime.geometry.elements import world_element
+from mazegen.runtime.engine import Population
+from mazegen.runtime.geometry import world_element
 from mazegen.runtime.threads import in_blocks
 
 
@@ -87,7 +87,7 @@ def _place(
     start, stop, shapes, ids, n_el, params, rows, first, vertices, count, box
 ):  # pragma: no cover - compiled
     """Write the parts of floors ``rows[start:stop]`` from ``first[m]`` on, as every kernel places them
-    (:func:`mazegen.runtime.geometry.elements.world_element`)."""
+    (:func:`mazegen.runtime.geometry._elements.world_element`)."""
     n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
     placed = np.empty((1, unit.shape[1], unit.shape[2], 2))
     part_box = np.empty((1, unit.shape[1], 4))

@@ -7,7 +7,7 @@ import json
 import numpy as np
 
 import mazegen
-from mazegen.runtime.campaigns.suite import (
+from mazegen.runtime.campaigns._suite import (
     DIFFICULTY_BIN,
     Bins,
     SuiteSettings,
@@ -15,8 +15,8 @@ from mazegen.runtime.campaigns.suite import (
     suite_documents,
     write_suite,
 )
-from mazegen.runtime.engine.problem import Problem
-from mazegen.runtime.navigation.measures import survey_of
+from mazegen.runtime.engine._problem import Problem
+from mazegen.runtime.navigation._measures import survey_of
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import geometrically_solvable
 

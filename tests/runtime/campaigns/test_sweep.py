@@ -11,7 +11,7 @@ from click.testing import CliRunner
 import mazegen
 from mazegen.cli.main import main
 from mazegen.errors import MazeError
-from mazegen.runtime.campaigns.sweep import (
+from mazegen.runtime.campaigns._sweep import (
     MAX_CELLS,
     Axis,
     apply_cell,
@@ -21,8 +21,8 @@ from mazegen.runtime.campaigns.sweep import (
     plan_cells,
     sweep_name,
 )
-from mazegen.runtime.catalog.catalog import Catalog
-from mazegen.runtime.catalog.catalog_query import run_rows
+from mazegen.runtime.catalog._catalog import Catalog
+from mazegen.runtime.catalog._catalog_query import run_rows
 from tests.conftest import EXAMPLES
 
 FACTORY = mazegen.load(EXAMPLES / "factory.maze")
@@ -167,7 +167,7 @@ def test_a_setting_that_changes_nothing_is_refused(tmp_path):
 
 def test_two_cells_that_run_one_experiment_are_refused(tmp_path, monkeypatch):
     """Whatever the reason: here an experiment that depends on the sum of the seed and the generations."""
-    import mazegen.runtime.campaigns.sweep as sweep
+    import mazegen.runtime.campaigns._sweep as sweep
 
     monkeypatch.setattr(sweep, "_what_runs", lambda spec: spec.evolution.seed + spec.evolution.generations)
     with pytest.raises(MazeError) as error:

@@ -14,8 +14,8 @@ from click.testing import CliRunner
 import mazegen
 from mazegen.cli.main import main
 from mazegen.errors import MazeError
-from mazegen.runtime.catalog.catalog import Catalog
-from mazegen.runtime.catalog.catalog_query import Condition, ScenarioQuery, run_rows, scenario_rows
+from mazegen.runtime.catalog._catalog import Catalog
+from mazegen.runtime.catalog._catalog_query import Condition, ScenarioQuery, run_rows, scenario_rows
 from tests.conftest import EXAMPLES
 from tests.runtime.catalog_writer import write_experiments
 

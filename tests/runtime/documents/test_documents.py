@@ -18,9 +18,9 @@ import pytest
 
 from mazegen.errors import MazeError
 from mazegen.runtime.documents import scenario_rules
-from mazegen.runtime.documents.floor import EXPORT_METRES_PER_UNIT
-from mazegen.runtime.documents.scenario import read_document
-from mazegen.runtime.documents.scenario_rules import DOCUMENT, Fields, Flag, Items, Number, Rule, Text
+from mazegen.runtime.documents._floor import EXPORT_METRES_PER_UNIT
+from mazegen.runtime.documents._scenario import read_document
+from mazegen.runtime.documents._scenario_rules import DOCUMENT, Fields, Flag, Items, Number, Rule, Text
 from tests.conftest import ROOT
 from tests.runtime.scenario_mutants import HAND, mutant, nested, text_of, whole_document, write
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from mazegen.runtime.documents.driving import episode_drive, not_driven, summaries, with_drives
+from mazegen.runtime.documents._driving import episode_drive, not_driven, summaries, with_drives
 from mazegen.runtime.simulation import ARRIVED, COLLISION, NO_PATH, TIMEOUT, Episodes
 
 NAN = float("nan")

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from mazegen.errors import MazeError
-from mazegen.runtime.documents.folders import RunDirectory, scenario_files
-from mazegen.runtime.runs.experiment import BUILD_FILES
+from mazegen.runtime.documents._folders import RunDirectory, scenario_files
+from mazegen.runtime.runs._experiment import BUILD_FILES
 
 
 def test_the_layout_names_every_file_a_run_writes(factory_run):

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from mazegen.errors import MazeError
-from mazegen.runtime.engine.bnf import Grammar, Symbol, parse_bnf, read_bnf
+from mazegen.runtime.engine._bnf import Grammar, Symbol, parse_bnf, read_bnf
 
 GRAMMARS = Path(__file__).parent / "grammars"
 

@@ -11,7 +11,7 @@ import pytest
 
 from mazegen.runtime.engine import operators as ops
 from mazegen.runtime.engine import used_operators as uo
-from mazegen.runtime.engine.breeding import breed, make_children
+from mazegen.runtime.engine._breeding import breed, make_children
 from mazegen.spec import CROSSOVER_OPERATORS, MUTATION_OPERATORS, Evolution
 
 OPERATORS = list(itertools.product(CROSSOVER_OPERATORS, MUTATION_OPERATORS))

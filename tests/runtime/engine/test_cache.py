@@ -7,10 +7,10 @@ import pytest
 
 import mazegen
 from mazegen.generator.build import build
-from mazegen.runtime.engine.cache import EvaluationCache, genome_hashes
-from mazegen.runtime.engine.evolution import evaluate_cached
-from mazegen.runtime.engine.problem import Problem, Workspace
-from mazegen.runtime.engine.used_operators import Usage
+from mazegen.runtime.engine._cache import EvaluationCache, genome_hashes
+from mazegen.runtime.engine._evolution import evaluate_cached
+from mazegen.runtime.engine._problem import Problem, Workspace
+from mazegen.runtime.engine._used_operators import Usage
 from tests.conftest import EXAMPLES
 
 MASK = (1 << 64) - 1

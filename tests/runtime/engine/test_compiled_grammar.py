@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mazegen.runtime.engine.bnf import parse_bnf
-from mazegen.runtime.engine.compiled_grammar import CHOICE_CODONS, IDLE, NAME, compile_grammar
+from mazegen.runtime.engine._bnf import parse_bnf
+from mazegen.runtime.engine._compiled_grammar import CHOICE_CODONS, IDLE, NAME, compile_grammar
 
 GRAMMAR = parse_bnf(
     "<s> ::= <e> | <e> <s> | wall(<n>)\n<e> ::= cobot | wa | ll box | router\n<n> ::= 1 | -2.5 | 3"

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mazegen
-from mazegen.runtime.engine.evolution import evolve, generation_stats
+from mazegen.runtime.engine._evolution import evolve, generation_stats
 from tests.conftest import EXAMPLES
 from tests.runtime.rundirs import file_digests
 

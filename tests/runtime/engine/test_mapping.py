@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mazegen.runtime.engine.bnf import Grammar, Symbol, parse_bnf, read_bnf
-from mazegen.runtime.engine.compiled_grammar import compile_grammar
-from mazegen.runtime.engine.mapping import (
+from mazegen.runtime.engine._bnf import Grammar, Symbol, parse_bnf, read_bnf
+from mazegen.runtime.engine._compiled_grammar import compile_grammar
+from mazegen.runtime.engine._mapping import (
     MapResult,
     extract_elements,
     map_genome,

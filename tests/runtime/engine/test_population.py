@@ -8,8 +8,8 @@ import pytest
 import mazegen
 from mazegen.generator.build import build
 from mazegen.runtime import metrics
-from mazegen.runtime.engine.population import GENE_MAX, SX, SY, THETA, X, Y
-from mazegen.runtime.engine.problem import Problem
+from mazegen.runtime.engine._population import GENE_MAX, SX, SY, THETA, X, Y
+from mazegen.runtime.engine._problem import Problem
 from tests.conftest import EXAMPLES
 
 
@@ -83,7 +83,7 @@ def reference_params(mapped, genes, ranges, arena, grammar_scale):
 
 @pytest.mark.parametrize("example", ["factory.maze", "mazegen1.maze", "table1/exp1.maze"])
 def test_placement_kernel_equals_numpy_reference(example, tmp_path):
-    from mazegen.runtime.engine.population import placement_params
+    from mazegen.runtime.engine._population import placement_params
 
     problem = problem_of(EXAMPLES / example, tmp_path)
     rng = np.random.default_rng(11)

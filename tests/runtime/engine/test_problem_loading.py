@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import mazegen
 from mazegen.generator.build import build
-from mazegen.runtime.engine.problem import Problem
-from mazegen.runtime.runs.worker import BuildFiles, problem_of
+from mazegen.runtime.engine._problem import Problem
+from mazegen.runtime.runs._worker import BuildFiles, problem_of
 from tests.conftest import EXAMPLES
 
 

@@ -10,10 +10,10 @@ import pytest
 
 from mazegen.runtime.engine import operators as ops
 from mazegen.runtime.engine import used_operators as uo
-from mazegen.runtime.engine.breeding import breed
-from mazegen.runtime.engine.evolution import evolve
-from mazegen.runtime.engine.mapping import NO_ELEMENT
-from mazegen.runtime.engine.population import GENE_MAX
+from mazegen.runtime.engine._breeding import breed
+from mazegen.runtime.engine._evolution import evolve
+from mazegen.runtime.engine._mapping import NO_ELEMENT
+from mazegen.runtime.engine._population import GENE_MAX
 from mazegen.spec import CROSSOVER_OPERATORS, MUTATION_OPERATORS, Evolution
 
 LENGTH, SLOTS = 12, 4

@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import mazegen
-from mazegen.runtime.documents.floor import load_floor
-from mazegen.runtime.exporters.floor import ExportOptions
-from mazegen.runtime.exporters.gazebo import gazebo_files
+from mazegen.runtime.documents._floor import load_floor
+from mazegen.runtime.exporters._floor import ExportOptions
+from mazegen.runtime.exporters._gazebo import gazebo_files
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 

@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 
 import mazegen
-from mazegen.runtime.documents.floor import load_floor
-from mazegen.runtime.documents.scenario import completed_document, dumps, element_documents, read_document
-from mazegen.runtime.engine.population import Population
-from mazegen.runtime.exporters.documents import json_files
-from mazegen.runtime.exporters.floor import ExportOptions
-from mazegen.runtime.geometry.elements import ElementTable
+from mazegen.runtime.documents._floor import load_floor
+from mazegen.runtime.documents._scenario import completed_document, dumps, element_documents, read_document
+from mazegen.runtime.engine._population import Population
+from mazegen.runtime.exporters._documents import json_files
+from mazegen.runtime.exporters._floor import ExportOptions
+from mazegen.runtime.geometry._elements import ElementTable
 from tests.conftest import EXAMPLES, ROOT
 
 SCHEMA = json.loads((ROOT / "docs" / "scenario.schema.json").read_text(encoding="utf-8"))

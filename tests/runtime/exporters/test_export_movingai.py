@@ -10,11 +10,11 @@ import pytest
 
 import mazegen
 from mazegen.errors import MazeError
-from mazegen.runtime.documents.floor import load_floor
-from mazegen.runtime.exporters.floor import ExportOptions
-from mazegen.runtime.exporters.movingai import movingai_files, octile_length
-from mazegen.runtime.geometry.cspace import grid_of
-from mazegen.runtime.navigation.paths import free_cells
+from mazegen.runtime.documents._floor import load_floor
+from mazegen.runtime.exporters._floor import ExportOptions
+from mazegen.runtime.exporters._movingai import movingai_files, octile_length
+from mazegen.runtime.geometry._cspace import grid_of
+from mazegen.runtime.navigation._paths import free_cells
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 

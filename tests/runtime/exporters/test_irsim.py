@@ -18,9 +18,9 @@ import shapely
 import mazegen
 from mazegen.errors import MazeError
 from mazegen.export_formats import BUNDLED
-from mazegen.runtime.documents.floor import Floor, load_floor
-from mazegen.runtime.exporters.floor import ExportOptions
-from mazegen.runtime.exporters.irsim import floor_robot, irsim_files
+from mazegen.runtime.documents._floor import Floor, load_floor
+from mazegen.runtime.exporters._floor import ExportOptions
+from mazegen.runtime.exporters._irsim import floor_robot, irsim_files
 from mazegen.runtime.simulation._lidar import beam_angles
 from mazegen.spec import Spec, robot_for
 from tests.conftest import EXAMPLES

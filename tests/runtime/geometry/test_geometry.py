@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from shapely.geometry import Polygon
 
-from mazegen.runtime.geometry.elements import element_bounds, world_parts
-from mazegen.runtime.geometry.overlap import elements_outside, overlapping_pairs
+from mazegen.runtime.geometry._elements import element_bounds, world_parts
+from mazegen.runtime.geometry._overlap import elements_outside, overlapping_pairs
 from tests.runtime.elements import TABLE, TYPES, random_population
 
 

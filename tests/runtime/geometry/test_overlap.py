@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from mazegen.runtime.geometry.elements import ElementTable, element_bounds, world_parts
-from mazegen.runtime.geometry.overlap import elements_outside, overlapping_pairs
+from mazegen.runtime.geometry._elements import ElementTable, element_bounds, world_parts
+from mazegen.runtime.geometry._overlap import elements_outside, overlapping_pairs
 from tests.runtime.elements import SQUARE, TABLE, random_population, shapely_geometries, squares
 
 

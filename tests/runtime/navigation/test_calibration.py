@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mazegen.runtime.documents.scenario_rules import check_document
-from mazegen.runtime.navigation.calibration import (
+from mazegen.runtime.documents._scenario_rules import check_document
+from mazegen.runtime.navigation._calibration import (
     fit_nonnegative,
     folds,
     held_out_r_squared,
@@ -18,7 +18,7 @@ from mazegen.runtime.navigation.calibration import (
     score_fit,
     spearman,
 )
-from mazegen.runtime.navigation.difficulty import (
+from mazegen.runtime.navigation._difficulty import (
     DIFFICULTY_VERSION,
     HARDNESS,
     INTERCEPT,

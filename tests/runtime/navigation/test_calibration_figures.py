@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 
 import mazegen
-from mazegen.runtime.documents.scenario import population_from_documents
-from mazegen.runtime.geometry.elements import ElementTable
-from mazegen.runtime.navigation.calibration import (
+from mazegen.runtime.documents._scenario import population_from_documents
+from mazegen.runtime.geometry._elements import ElementTable
+from mazegen.runtime.navigation._calibration import (
     TARGET_CONTROLLERS,
     VERSION_1_LEVELS,
     CalibrationFloors,
@@ -26,7 +26,7 @@ from mazegen.runtime.navigation.calibration import (
     data_scores,
     read_calibration,
 )
-from mazegen.runtime.navigation.difficulty import HARDNESS, METRICS, WEIGHTS, survey
+from mazegen.runtime.navigation._difficulty import HARDNESS, METRICS, WEIGHTS, survey
 from tests.conftest import EXAMPLES, ROOT
 
 DATA = ROOT / "tests" / "runtime" / "navigation" / "calibration_data.csv"

@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from mazegen.runtime import metrics
-from mazegen.runtime.geometry.cspace import Grid
-from mazegen.runtime.navigation.connectivity import component_arrays, connected, reach
-from mazegen.runtime.navigation.measures import navigation_of, reach_of
-from mazegen.runtime.navigation.paths import navigate
+from mazegen.runtime.geometry._cspace import Grid
+from mazegen.runtime.navigation._connectivity import component_arrays, connected, reach
+from mazegen.runtime.navigation._measures import navigation_of, reach_of
+from mazegen.runtime.navigation._paths import navigate
 from mazegen.spec import Arena
 from tests.runtime.floors import pack, population, random_floors, reachable
 

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from mazegen.runtime import metrics
-from mazegen.runtime.geometry.cspace import Grid, unpack
-from mazegen.runtime.navigation.difficulty import (
+from mazegen.runtime.geometry._cspace import Grid, unpack
+from mazegen.runtime.navigation._difficulty import (
     KING,
     METRICS,
     RAYS16,
@@ -23,7 +23,7 @@ from mazegen.runtime.navigation.difficulty import (
     step_arrays,
     survey,
 )
-from mazegen.runtime.navigation.paths import free_cells, navigate, path_of, paths_of
+from mazegen.runtime.navigation._paths import free_cells, navigate, path_of, paths_of
 from mazegen.spec import DIFFICULTY_LEVELS, Arena
 from tests.runtime.floors import ARENA, NAMES, ZIGZAG, pack, population, random_floors
 

@@ -12,9 +12,9 @@ import shapely
 from shapely.geometry import Polygon, box
 
 import mazegen
-from mazegen.runtime.geometry.cspace import Grid
-from mazegen.runtime.geometry.elements import world_parts
-from mazegen.runtime.navigation.paths import free_cells, navigate
+from mazegen.runtime.geometry._cspace import Grid
+from mazegen.runtime.geometry._elements import world_parts
+from mazegen.runtime.navigation._paths import free_cells, navigate
 from mazegen.spec import Arena
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import (

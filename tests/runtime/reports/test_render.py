@@ -15,7 +15,7 @@ import pytest
 from PIL import Image
 
 from mazegen.errors import MazeError
-from mazegen.runtime.reports.render import render_file, scenario_png, scenario_svg
+from mazegen.runtime.reports._render import render_file, scenario_png, scenario_svg
 
 SVG = "{http://www.w3.org/2000/svg}"
 
@@ -334,7 +334,7 @@ def test_every_bundled_type_has_its_own_colour_in_the_legend(tmp_path: Path) -> 
 
 
 def mazegen_colour(colour: str) -> str:
-    from mazegen.runtime.reports.render import rgb
+    from mazegen.runtime.reports._render import rgb
 
     return "#{:02x}{:02x}{:02x}".format(*rgb(colour))
 

@@ -20,10 +20,10 @@ from PIL import Image
 import mazegen
 from mazegen.cli.main import main
 from mazegen.errors import MazeError
-from mazegen.runtime.campaigns.suite import SuiteSettings, fill_archive, suite_documents, write_suite
-from mazegen.runtime.reports.report import distribution_chart, read_run, report_html, statistic_table
-from mazegen.runtime.reports.report_html import THUMBNAIL_PIXELS, phenotype_html
-from mazegen.runtime.reports.spec_words import evolution_words, scenario_words, term_words
+from mazegen.runtime.campaigns._suite import SuiteSettings, fill_archive, suite_documents, write_suite
+from mazegen.runtime.reports._report import distribution_chart, read_run, report_html, statistic_table
+from mazegen.runtime.reports._report_html import THUMBNAIL_PIXELS, phenotype_html
+from mazegen.runtime.reports._spec_words import evolution_words, scenario_words, term_words
 from mazegen.spec import Evolution
 from tests.conftest import EXAMPLES
 

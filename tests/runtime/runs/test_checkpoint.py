@@ -8,14 +8,14 @@ import numpy as np
 import pytest
 
 from mazegen.errors import MazeError
-from mazegen.runtime.runs.checkpoint import (
+from mazegen.runtime.runs._checkpoint import (
     CheckpointPolicy,
     CheckpointStore,
     DamagedCheckpoint,
     read_checkpoint,
 )
-from mazegen.runtime.engine.evolution import RunState, evolve
-from mazegen.runtime.runs.worker import run_rng
+from mazegen.runtime.engine._evolution import RunState, evolve
+from mazegen.runtime.runs._worker import run_rng
 
 
 def without_seconds(stats):

@@ -8,8 +8,8 @@ from click.testing import CliRunner
 import mazegen
 from mazegen.cli.main import main
 from mazegen.errors import MazeError
-from mazegen.runtime.runs.executors import LocalExecutor, SerialExecutor
-from mazegen.runtime.runs.launcher import executor_for
+from mazegen.runtime.runs._executors import LocalExecutor, SerialExecutor
+from mazegen.runtime.runs._launcher import executor_for
 from tests.conftest import EXAMPLES
 from tests.runtime.rundirs import file_digests
 
@@ -59,7 +59,7 @@ def test_a_driving_spec_writes_the_same_files_on_every_executor(tmp_path):
 
 def test_unreachable_or_malformed_scheduler_is_a_one_line_error():
     pytest.importorskip("distributed")
-    from mazegen.runtime.runs.dask_executor import DaskExecutor
+    from mazegen.runtime.runs._dask_executor import DaskExecutor
 
     with pytest.raises(MazeError, match=r"cannot reach the Dask scheduler at tcp://127\.0\.0\.1:9: "):
         DaskExecutor(scheduler="tcp://127.0.0.1:9", connect_timeout=0.5)

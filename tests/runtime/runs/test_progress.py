@@ -15,8 +15,8 @@ import mazegen
 import mazegen.runtime
 from mazegen.cli.main import main
 from mazegen.runtime import kernels_cached
-from mazegen.runtime.engine.evolution import GenerationStats
-from mazegen.runtime.runs.progress import FIRST_COMPILE_NOTE, QuietReporter, RichReporter
+from mazegen.runtime.engine._evolution import GenerationStats
+from mazegen.runtime.runs._progress import FIRST_COMPILE_NOTE, QuietReporter, RichReporter
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import floor_file
 
@@ -73,11 +73,11 @@ def test_kernels_are_cached_once_every_run_kernel_has_an_index(tmp_path, monkeyp
     assert not kernels_cached()
     folder = tmp_path / "work" / "main"  # numba keeps the sources' folders below the cache's
     folder.mkdir(parents=True)
-    (folder / "mapping._map_all-5.py311.nbi").write_bytes(b"")
+    (folder / "_mapping._map_all-5.py311.nbi").write_bytes(b"")
     assert not kernels_cached()  # a first run cut short: the scenario metrics' kernel is missing
-    (folder / "difficulty._survey_all-9.py311.1.nbc").write_bytes(b"")
+    (folder / "_difficulty._survey_all-9.py311.1.nbc").write_bytes(b"")
     assert not kernels_cached()  # compiled code without its index is not found by numba
-    (folder / "difficulty._survey_all-9.py311.nbi").write_bytes(b"")
+    (folder / "_difficulty._survey_all-9.py311.nbi").write_bytes(b"")
     assert kernels_cached()
 
 
@@ -94,7 +94,7 @@ def test_a_score_that_compiles_says_so_once_and_keeps_its_table(monkeypatch, tmp
     from numba import njit
 
     from mazegen.runtime.compiling import DRIVE_SECONDS, compile_note
-    from mazegen.runtime.documents.scoring import Scorer
+    from mazegen.runtime.documents._scoring import Scorer
 
     monkeypatch.undo()  # the real note, not the tests' silence (conftest)
     floor = floor_file(tmp_path / "floor.json", {"type": "router", "x": 300, "y": 100, "size": 30})

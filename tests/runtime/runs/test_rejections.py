@@ -6,10 +6,10 @@ import numpy as np
 
 import mazegen
 from mazegen.runtime import metrics
-from mazegen.runtime.engine.mapping import extract_elements, map_genome
-from mazegen.runtime.engine.operators import random_codons, random_genes
-from mazegen.runtime.engine.problem import REJECTED, Problem
-from mazegen.runtime.runs.rejections import EXHAUSTED, OVERFLOW, rejection_causes
+from mazegen.runtime.engine._mapping import extract_elements, map_genome
+from mazegen.runtime.engine._operators import random_codons, random_genes
+from mazegen.runtime.engine._problem import REJECTED, Problem
+from mazegen.runtime.runs._rejections import EXHAUSTED, OVERFLOW, rejection_causes
 
 SPEC = """
 element block { shape square size 20..40 }

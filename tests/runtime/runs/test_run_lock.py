@@ -6,8 +6,8 @@ import pytest
 
 from mazegen.errors import MazeError
 from mazegen.runtime.runs import locks
-from mazegen.runtime.runs.locks import writing_checkpoints
-from mazegen.runtime.runs.results import RunDirectoryWriter
+from mazegen.runtime.runs._locks import writing_checkpoints
+from mazegen.runtime.runs._results import RunDirectoryWriter
 
 pytestmark = pytest.mark.skipif(locks.fcntl is None, reason="run directories are locked with flock")
 

@@ -17,8 +17,8 @@ FIRST_RUN = textwrap.dedent(
     def main():
         import mazegen
         from mazegen.runtime import kernels_cached
-        from mazegen.runtime.engine.problem import Problem
-        from mazegen.runtime.runs.warmup import compile_kernels
+        from mazegen.runtime.engine._problem import Problem
+        from mazegen.runtime.runs._warmup import compile_kernels
 
         cache, build = Path(sys.argv[1]), Path(sys.argv[2])
         mazegen.build(mazegen.load(sys.argv[3]), build)
@@ -47,7 +47,7 @@ def test_a_run_after_compiling_ahead_compiles_nothing(tmp_path):
     assert done.stdout.strip() == "[]"
     # Both processes compiled: the path kernels in the helper, the evolution's here.
     names = {path.name.split("-")[0] for path in cache.rglob("*.nbi")}
-    assert {"difficulty._survey_all", "connectivity._reach_all", "mapping._map_all"} <= names
+    assert {"_difficulty._survey_all", "_connectivity._reach_all", "_mapping._map_all"} <= names
 
 
 STOPPED_HELPER = textwrap.dedent(
@@ -56,7 +56,7 @@ STOPPED_HELPER = textwrap.dedent(
 
     def main():
         import mazegen
-        from mazegen.runtime.runs.warmup import PathKernelHelper
+        from mazegen.runtime.runs._warmup import PathKernelHelper
 
         helper = PathKernelHelper(mazegen.load(sys.argv[1]))  # the cache is empty: it compiles for long
         helper.stop()  # at once, as compile_kernels does when the command fails early or is interrupted

@@ -17,11 +17,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from mazegen.runtime.documents.floor import Floor
-from mazegen.runtime.engine.population import Population
-from mazegen.runtime.exporters.floor import ExportOptions
-from mazegen.runtime.exporters.irsim import irsim_files
-from mazegen.runtime.geometry.elements import world_vertices
+from mazegen.runtime.documents._floor import Floor
+from mazegen.runtime.engine._population import Population
+from mazegen.runtime.exporters._floor import ExportOptions
+from mazegen.runtime.exporters._irsim import irsim_files
+from mazegen.runtime.geometry._elements import world_vertices
 from mazegen.runtime.simulation import Episodes, Observations, drive
 from mazegen.spec import robot_for
 from tests.runtime.floors import ARENA, NAMES, population, random_floors

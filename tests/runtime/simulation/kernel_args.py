@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mazegen.runtime.engine.population import Population
+from mazegen.runtime.engine._population import Population
 from mazegen.runtime.simulation import Episodes, drive
 from mazegen.runtime.simulation._choice import bundled_params
 from mazegen.runtime.simulation._state import robot_limits

@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from mazegen.runtime.geometry.cspace import grid_of
-from mazegen.runtime.navigation.paths import path_of
+from mazegen.runtime.geometry._cspace import grid_of
+from mazegen.runtime.navigation._paths import path_of
 from mazegen.runtime.simulation import _drive, drive
 from mazegen.runtime.simulation._dwa import LETHAL, dwa_command
 from mazegen.runtime.simulation._episodes import ARRIVED

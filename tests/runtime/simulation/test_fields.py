@@ -10,9 +10,9 @@ import numpy as np
 import shapely
 from shapely.geometry import Polygon
 
-from mazegen.runtime.geometry.cspace import grid_of
-from mazegen.runtime.geometry.elements import world_parts
-from mazegen.runtime.navigation.paths import free_cells
+from mazegen.runtime.geometry._cspace import grid_of
+from mazegen.runtime.geometry._elements import world_parts
+from mazegen.runtime.navigation._paths import free_cells
 from mazegen.runtime.simulation._fields import CLEAR_ERROR, clearance, field_scratch, floor_fields
 from tests.runtime.floors import ARENA, TABLE, ZIGZAG, pack, population, random_floors
 

@@ -13,7 +13,7 @@ import shapely
 from shapely.geometry import Polygon
 
 from mazegen.errors import MazeError
-from mazegen.runtime.geometry.elements import world_parts
+from mazegen.runtime.geometry._elements import world_parts
 from mazegen.runtime.simulation import ARRIVED, Observations, drive
 from mazegen.spec import robot_for
 from tests.conftest import EXAMPLES

@@ -1,0 +1,71 @@
+"""What every export shares: its options, and the numbers and shapes the formats write alike.
+
+The scenario an export reads is a :class:`~mazegen.runtime.documents._floor.Floor`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from mazegen.errors import MazeError
+
+SCALE_BOUNDS = (1e-6, 1000.0)
+"""Metres per arena unit an export accepts: from micrometres to kilometres, which the
+exports' six decimals of a metre and their coordinates can still write."""
+
+
+_RIGHT_ANGLE = 1e-3
+"""Largest |cos| between neighbouring edges of a rectangular part (rounded vertices are not exact)."""
+
+
+def yaml_number(value: float) -> str:
+    """A YAML number: at most nine decimals, no ``-0.0``."""
+    return repr(round(value, 9) + 0.0)
+
+
+def rectangle_of(corners: np.ndarray) -> tuple[tuple[float, float], float, float, float] | None:
+    """Centre, length, width and yaw of a four-cornered part if it is a rectangle, else None."""
+    if len(corners) != 4:
+        return None
+    edges = np.roll(corners, -1, axis=0) - corners
+    lengths = np.hypot(edges[:, 0], edges[:, 1])
+    if lengths.min() <= 0:
+        return None
+    cosines = np.abs(np.sum(edges * np.roll(edges, -1, axis=0), axis=1)) / (lengths * np.roll(lengths, -1))
+    if cosines.max() > _RIGHT_ANGLE:
+        return None
+    cx, cy = corners.mean(axis=0)
+    return (float(cx), float(cy)), float(lengths[0]), float(lengths[1]), math.atan2(edges[0, 1], edges[0, 0])
+
+
+@dataclass(frozen=True)
+class ExportOptions:
+    """Settings of an export that are not in the scenario, checked as they are made.
+
+    Attributes:
+        scale: Metres per arena unit, or None for the unit's own
+            (:data:`~mazegen.runtime.documents._floor.EXPORT_METRES_PER_UNIT`).
+        cell: Cell size of a grid map (ROS, MovingAI) in arena units, or None for the engine's grid cell.
+
+    Raises:
+        MazeError: For a scale outside :data:`SCALE_BOUNDS`, or a cell that is not a positive number.
+    """
+
+    scale: float | None = None
+    cell: float | None = None
+
+    def __post_init__(self) -> None:
+        low, high = SCALE_BOUNDS
+        if self.scale is not None and not low <= self.scale <= high:  # NaN too
+            raise MazeError(
+                f"--scale must be from {low:g} to {high:g} metres per arena unit, got {self.scale:g}"
+            )
+        if self.cell is not None and not (math.isfinite(self.cell) and self.cell > 0):
+            raise MazeError(f"--cell must be a positive number of arena units, got {self.cell:g}")
+
+    def given(self) -> list[str]:
+        """The names of the options set (``["cell"]``)."""
+        return [field.name for field in fields(self) if getattr(self, field.name) is not None]

@@ -1,0 +1,68 @@
+"""ROS and ROS 2 occupancy maps: a PGM image and the YAML that ``map_server`` loads.
+
+The image is the engine's own occupancy grid (the cells the elements touch, see
+:meth:`~mazegen.runtime.documents._floor.Floor.occupancy`), one pixel per cell, framed by one
+occupied cell on each side for the arena's edge, which the engine never lets the robot cross. Pixels
+are 0 (occupied) or 254 (free); 205 (unknown) is never written, and the YAML's
+thresholds read it back as unknown, not free. Lengths are metres whatever the
+arena's unit, and the map frame is the arena's: its lower-left corner at (0, 0).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from mazegen.runtime.documents import Floor, safe_name
+from mazegen.runtime.exporters._floor import ExportOptions, yaml_number
+
+OCCUPIED = 0
+FREE = 254
+OCCUPIED_THRESH = 0.65
+FREE_THRESH = 0.196
+"""Below 50/255 = 0.19608, the occupancy an unknown (205) pixel reads as."""
+
+
+def map_image(occupied: np.ndarray) -> bytes:
+    """Binary PGM (P5) of a grid whose row 0 is at y = 0, framed by occupied cells.
+
+    Args:
+        occupied: ``bool[rows, cols]``, row 0 the lowest.
+
+    Returns:
+        The image bytes: ``cols + 2`` by ``rows + 2`` pixels, top row first.
+    """
+    framed = np.pad(occupied, 1, constant_values=True)[::-1]
+    pixels = np.where(framed, OCCUPIED, FREE).astype(np.uint8)
+    height, width = pixels.shape
+    return f"P5\n{width} {height}\n255\n".encode("ascii") + pixels.tobytes()
+
+
+def ros_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
+    """``NAME.pgm`` and ``NAME.yaml`` of a scenario, on a grid of ``options.cell`` (default the engine's).
+
+    Raises:
+        MazeError: When the scenario's spec is unknown or its unit has no size in metres.
+    """
+    occupied, grid = floor.occupancy(options.cell)
+    metres = floor.metres_per_unit(options)
+    resolution = grid.cell * metres
+    image = f"{floor.name}.pgm"
+    arena = floor.arena
+    start, goal = ([yaml_number(v * metres) for v in arena[key]] for key in ("start", "goal"))
+    source = json.dumps(safe_name(floor.source.name))
+    lines = [
+        f"# MazeGen scenario {json.dumps(floor.document.get('scenario'))}, {source}:",
+        f"# {grid.cols} x {grid.rows} cells of {yaml_number(resolution)} m, framed by one occupied cell",
+        f"# start [{', '.join(start)}], goal [{', '.join(goal)}], "
+        f"robot radius {yaml_number(arena.get('robot_radius', 0.0) * metres)} (metres, map frame)",
+        f"image: {json.dumps(image)}",
+        "mode: trinary",
+        f"resolution: {yaml_number(resolution)}",
+        f"origin: [{yaml_number(-resolution)}, {yaml_number(-resolution)}, 0.0]",
+        "negate: 0",
+        f"occupied_thresh: {OCCUPIED_THRESH}",
+        f"free_thresh: {FREE_THRESH}",
+    ]
+    return {image: map_image(occupied), f"{floor.name}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}

@@ -1,0 +1,304 @@
+"""The configuration space: where the robot's centre may be, as bit rows per individual.
+
+1. **Occupancy**: every convex part of every element marks the grid cells it
+   touches (conservative: a wall thinner than a cell still blocks its cells).
+   Cell ``(i, j)`` is ``[j c, (j+1) c] x [i c, (i+1) c]`` for the arena's cell ``c``.
+2. **Configuration space**: a cell is blocked when an occupied cell's centre lies
+   within the robot radius of its centre (a disc dilation), or when its centre is
+   closer to the arena's edge than the radius.
+
+Rows are bit rows (:mod:`mazegen.runtime.geometry._bits`), so a whole row is dilated or tested
+in a few word operations.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import lru_cache
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numba import njit
+
+from mazegen.runtime.geometry._bits import HIGH, ONE, is_set, popcount, set_block
+from mazegen.runtime.geometry._elements import world_element
+
+if TYPE_CHECKING:
+    from mazegen.spec import Arena
+
+
+@dataclass(frozen=True)
+class Grid:
+    """The occupancy grid of an arena and what every individual shares on it.
+
+    Attributes:
+        cell: Cell size in arena units.
+        rows: Cells along y.
+        cols: Cells along x.
+        words: ``uint64`` words per row.
+        spans: ``int64[R + 1]``: half-width in cells of the robot's disc ``dy`` rows away.
+        border: ``uint64[rows, words]``: cells the robot's centre cannot occupy
+            near the arena's edge, and the padding bits past ``cols``.
+        start: ``(x, y)`` of the start, arena units.
+        goal: ``(x, y)`` of the goal, arena units.
+        start_cell: ``(row, col)`` the search starts from: the start's cell or, when the
+            edge rule blocks it (a coarse grid puts its centre too near a wall), the
+            nearest cell the edge rule leaves free.
+        goal_cell: The same for the goal.
+    """
+
+    cell: float
+    rows: int
+    cols: int
+    words: int
+    spans: np.ndarray
+    border: np.ndarray
+    start: tuple[float, float]
+    goal: tuple[float, float]
+    start_cell: tuple[int, int]
+    goal_cell: tuple[int, int]
+
+    @classmethod
+    def from_arena(cls, arena: Arena) -> Grid:
+        """The grid of ``arena`` at its cell size (:attr:`Arena.cell`)."""
+        cell = arena.cell
+        cols = max(1, math.ceil(arena.width / cell - 1e-9))
+        rows = max(1, math.ceil(arena.height / cell - 1e-9))
+        words = (cols + 63) // 64
+        reach = arena.robot_radius / cell
+        spans = np.array(
+            [math.floor(math.sqrt(max(reach * reach - dy * dy, 0.0)) + 1e-9) for dy in range(int(reach) + 1)],
+            dtype=np.int64,
+        )
+        centres_x = (np.arange(cols) + 0.5) * cell
+        centres_y = (np.arange(rows) + 0.5) * cell
+        r = arena.robot_radius
+        bad_col = (centres_x < r) | (centres_x > arena.width - r)
+        bad_row = (centres_y < r) | (centres_y > arena.height - r)
+        blocked = bad_row[:, None] | bad_col[None, :]
+        padded = np.ones((rows, words * 64), dtype=bool)
+        padded[:, :cols] = blocked
+        weights = (ONE << np.arange(64, dtype=np.uint64)).astype(np.uint64)
+        border = (padded.reshape(rows, words, 64).astype(np.uint64) * weights).sum(axis=2, dtype=np.uint64)
+        start, goal = arena.start, arena.goal
+        ends = tuple(_end_cell(point, cell, centres_x, centres_y, blocked) for point in (start, goal))
+        return cls(
+            cell, rows, cols, words, spans, border, (start[0], start[1]), (goal[0], goal[1]), ends[0], ends[1]
+        )
+
+
+def _end_cell(
+    point: tuple[float, float], cell: float, xs: np.ndarray, ys: np.ndarray, blocked: np.ndarray
+) -> tuple[int, int]:
+    row = min(max(int(point[1] // cell), 0), len(ys) - 1)
+    col = min(max(int(point[0] // cell), 0), len(xs) - 1)
+    if not blocked[row, col] or blocked.all():
+        return row, col
+    distance = (ys[:, None] - point[1]) ** 2 + (xs[None, :] - point[0]) ** 2
+    nearest = np.unravel_index(np.argmin(np.where(blocked, np.inf, distance)), blocked.shape)
+    return int(nearest[0]), int(nearest[1])
+
+
+@lru_cache(maxsize=16)
+def grid_of(arena: Arena) -> Grid:
+    """The grid of ``arena``, built once per arena."""
+    return Grid.from_arena(arena)
+
+
+@lru_cache(maxsize=16)
+def point_grid_of(arena: Arena) -> Grid:
+    """The grid of ``arena``, same cells, for a robot of radius 0 (a point)."""
+    return Grid.from_arena(replace(arena, robot_radius=0.0, grid=arena.cell))
+
+
+def grid_args(grid: Grid) -> tuple:
+    """The grid as the tuple the compiled kernels take."""
+    (sr, sc), (gr, gc) = grid.start_cell, grid.goal_cell
+    return (
+        grid.cell,
+        grid.rows,
+        grid.cols,
+        grid.spans,
+        grid.border,
+        np.array([*grid.start, *grid.goal], dtype=np.float64),
+        np.array([sr, sc, gr, gc], dtype=np.int64),
+    )
+
+
+def unpack(bits: np.ndarray, cols: int) -> np.ndarray:
+    """``bool[rows, cols]`` from rows of ``uint64`` words."""
+    as_bytes = bits.astype("<u8").view(np.uint8).reshape(bits.shape[0], -1)
+    return np.unpackbits(as_bytes, axis=1, bitorder="little")[:, :cols].astype(bool)
+
+
+@njit(cache=True)
+def raster_arrays(grid, slots, parts, vertices):  # pragma: no cover - compiled
+    """Scratch of one rasterisation on ``grid`` (:func:`grid_args`).
+
+    The dilation works on padded copies of the occupancy: ``reach`` empty rows above and
+    below, and guard words after each row wide enough for the widest span, so every shift
+    stays inside the array and brings in zeros. Rows are then plain stretches of one flat
+    array, and each step of the dilation is a single loop the compiler can vectorise.
+    """
+    rows, spans, words = grid[1], grid[3], grid[4].shape[1]
+    reach = spans.shape[0] - 1
+    stride = words + spans[0] // 64 + 1
+    slots = max(slots, 1)
+    return (
+        np.zeros((spans[0] + 1, (rows + 2 * reach) * stride), np.uint64),  # occupancy widened by 0, 1, ...
+        np.zeros(rows * stride, np.uint64),  # the dilated occupancy
+        np.zeros((slots, parts, vertices, 2)),
+        np.zeros((slots, parts, 4)),
+        np.zeros((slots, 4)),
+    )
+
+
+@njit(cache=True)
+def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover - compiled
+    """Free configuration-space cells of one individual, as bit rows in ``free``.
+
+    Returns the number of cells the elements occupy (before the dilation).
+    """
+    n_parts, n_vertices = shapes[0], shapes[1]
+    cell, rows, cols, spans, border = grid[0], grid[1], grid[2], grid[3], grid[4]
+    widened, dilated, wv, pbox, ebox = raster
+    words = border.shape[1]
+    reach = spans.shape[0] - 1
+    stride = dilated.shape[0] // rows
+    inside = widened[0, reach * stride : (reach + rows) * stride]
+    occupied = inside.reshape((rows, stride))
+    inside[:] = 0
+    for k in range(count):
+        e = ids[k]
+        world_element(shapes, e, params[k], wv, pbox, ebox, k)
+        for p in range(n_parts[e]):
+            _mark_part(wv, k, p, n_vertices[e, p], pbox[k, p], cell, rows, cols, occupied)
+    occupied_cells = 0
+    for i in range(inside.shape[0]):
+        occupied_cells += popcount(inside[i])
+    # Disc dilation: the occupancy widened by the disc's half-width dy rows away, shifted dy rows.
+    for width in range(1, widened.shape[0]):
+        _widen_flat(widened[width - 1], widened[width])
+    # (Slices rather than offset indices: indices the compiler knows are not negative
+    # spare it the wrap-around test that would keep these loops from being vectorised.)
+    size = dilated.shape[0]
+    first = widened[spans[reach], :size]
+    for i in range(size):
+        dilated[i] = first[i]
+    for dy in range(1 - reach, reach + 1):
+        source = widened[spans[abs(dy)], (reach + dy) * stride : (reach + dy) * stride + size]
+        for i in range(size):
+            dilated[i] |= source[i]
+    rows_of = dilated.reshape((rows, stride))
+    for r in range(rows):
+        for w in range(words):
+            free[r, w] = ~(rows_of[r, w] | border[r, w])
+    return occupied_cells
+
+
+@njit(cache=True, inline="always")
+def _widen_flat(source, out):  # pragma: no cover - compiled
+    """``out`` = ``source`` with every set bit spread one column to each side (one flat bit string)."""
+    last = source.shape[0] - 1
+    for i in range(1, last):
+        x = source[i]
+        out[i] = x | (x << ONE) | (x >> ONE) | (source[i - 1] >> HIGH) | (source[i + 1] << HIGH)
+    out[0] = source[0] | (source[0] << ONE) | (source[0] >> ONE) | (source[1] << HIGH)
+    out[last] = source[last] | (source[last] << ONE) | (source[last] >> ONE) | (source[last - 1] >> HIGH)
+
+
+@njit(cache=True, inline="always")
+def _mark_part(wv, k, p, nv, box, cell, rows, cols, occupied):  # pragma: no cover - compiled
+    """Set every cell that convex part ``p`` of element ``k`` touches."""
+    if box[2] < 0.0 or box[3] < 0.0 or box[0] > cols * cell or box[1] > rows * cell:
+        return
+    r0 = max(math.floor(box[1] / cell), 0)
+    r1 = min(math.floor(box[3] / cell), rows - 1)
+    if nv == 4 and _axis_aligned(wv, k, p, 1e-9 * cell):  # walls and lines: every row spans the box
+        if box[2] >= 0.0 and box[0] <= cols * cell:
+            c0 = max(math.floor(box[0] / cell), 0)
+            c1 = min(math.floor(box[2] / cell), cols - 1)
+            set_block(occupied, r0, r1, c0, c1)
+        return
+    for r in range(r0, r1 + 1):
+        y0 = max(r * cell, box[1])
+        y1 = min((r + 1) * cell, box[3])
+        lo = np.inf
+        hi = -np.inf
+        for v in range(nv):
+            u = v + 1 if v + 1 < nv else 0
+            ax, ay, bx, by = wv[k, p, v, 0], wv[k, p, v, 1], wv[k, p, u, 0], wv[k, p, u, 1]
+            # The edge clipped to the band [y0, y1]: its x-extent there.
+            if ay > by:
+                ax, ay, bx, by = bx, by, ax, ay
+            if by < y0 or ay > y1:
+                continue
+            if by - ay > 0.0:
+                ta = max((y0 - ay) / (by - ay), 0.0)
+                tb = min((y1 - ay) / (by - ay), 1.0)
+                xa = ax + (bx - ax) * ta
+                xb = ax + (bx - ax) * tb
+            else:
+                xa, xb = ax, bx
+            lo = min(lo, xa, xb)
+            hi = max(hi, xa, xb)
+        if hi < 0.0 or lo > cols * cell or hi < lo:
+            continue
+        c0 = max(math.floor(lo / cell), 0)
+        c1 = min(math.floor(hi / cell), cols - 1)
+        set_block(occupied, r, r, c0, c1)
+
+
+@njit(cache=True, inline="always")
+def _axis_aligned(wv, k, p, tolerance):  # pragma: no cover - compiled
+    """Whether every edge of the 4-vertex part ``p`` of element ``k`` is horizontal or vertical."""
+    for v in range(4):
+        u = (v + 1) % 4
+        dx = abs(wv[k, p, v, 0] - wv[k, p, u, 0])
+        dy = abs(wv[k, p, v, 1] - wv[k, p, u, 1])
+        if dx > tolerance and dy > tolerance:
+            return False
+    return True
+
+
+@njit(cache=True, inline="always")
+def is_free(free, r, c, cols):  # pragma: no cover - compiled
+    """Whether cell ``(r, c)`` of the bit rows ``free`` is free; cells outside the grid are not."""
+    return 0 <= r < free.shape[0] and 0 <= c < cols and is_set(free[r], c)
+
+
+@njit(cache=True)
+def straight_free(free, cols, cell, points):  # pragma: no cover - compiled
+    """Whether every cell the segment start → goal touches is free (cells walked as in Amanatides and Woo;
+    where it passes exactly through a cell corner, both side cells must be free too)."""
+    rows = free.shape[0]
+    x, y = points[0] / cell, points[1] / cell
+    dx, dy = points[2] / cell - x, points[3] / cell - y
+    c, r = math.floor(x), math.floor(y)
+    end_c, end_r = math.floor(points[2] / cell), math.floor(points[3] / cell)
+    step_c = 1 if dx > 0 else -1
+    step_r = 1 if dy > 0 else -1
+    next_c = ((c + (dx > 0)) - x) / dx if dx != 0 else np.inf
+    next_r = ((r + (dy > 0)) - y) / dy if dy != 0 else np.inf
+    delta_c = abs(1.0 / dx) if dx != 0 else np.inf
+    delta_r = abs(1.0 / dy) if dy != 0 else np.inf
+    for _ in range(rows + cols + 2):
+        if not is_free(free, r, c, cols):
+            return False
+        if r == end_r and c == end_c:
+            return True
+        if next_c < next_r:
+            c += step_c
+            next_c += delta_c
+        elif next_r < next_c:
+            r += step_r
+            next_r += delta_r
+        else:  # through a corner: the two cells beside it as well
+            if not is_free(free, r, c + step_c, cols) or not is_free(free, r + step_r, c, cols):
+                return False
+            c += step_c
+            r += step_r
+            next_c += delta_c
+            next_r += delta_r
+    return False
