@@ -30,7 +30,7 @@ from calibration import perturbed_starts, problem_of
 from common import ROOT, markdown_table
 
 from mazegen.runtime.documents._scenario import scenario_key
-from mazegen.runtime.engine import evolution
+from mazegen.runtime.engine import _evolution as evolution
 from mazegen.runtime.engine._operators import random_codons, random_genes
 from mazegen.runtime.engine._population import Population
 from mazegen.runtime.navigation._measures import survey_of

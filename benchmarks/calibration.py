@@ -50,7 +50,7 @@ from common import ROOT, markdown_table
 import mazegen
 from mazegen.generator.build import build
 from mazegen.runtime.documents._scenario import element_documents, population_from_documents
-from mazegen.runtime.engine import evolution
+from mazegen.runtime.engine import _evolution as evolution
 from mazegen.runtime.engine._operators import random_codons, random_genes
 from mazegen.runtime.engine._population import Population
 from mazegen.runtime.engine._problem import Problem

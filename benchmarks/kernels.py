@@ -33,7 +33,8 @@ from common import BENCHMARKS, ROOT, markdown_table, median_seconds, peak_rss_mb
 import mazegen
 from mazegen.generator.build import build
 from mazegen.runtime import metrics
-from mazegen.runtime.engine import breeding, evolution
+from mazegen.runtime.engine import _breeding as breeding
+from mazegen.runtime.engine import _evolution as evolution
 from mazegen.runtime.engine._cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine._mapping import PopulationMap
 from mazegen.runtime.engine._operators import random_codons, random_genes

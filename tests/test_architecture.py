@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ast
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -155,3 +156,49 @@ def test_a_module_of_a_room_imports_only_what_it_needs():
     probe = "import sys, mazegen.runtime.runs._launcher; print('matplotlib' in sys.modules)"
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "False"
+
+
+def _recipes() -> dict[str, list[str]]:
+    """Each recipe of docs/architecture.md's "What goes where" by its title, with its files."""
+    page = (ROOT / "docs" / "architecture.md").read_text(encoding="utf-8")
+    section = page[page.index("## What goes where") : page.index("## Threads")]
+    recipes = {}
+    for bullet in re.split(r"\n- ", section)[1:]:
+        title = re.match(r"\*\*(.+?)\*\*", bullet)
+        files = bullet.split("Files:", 1)
+        assert title and len(files) == 2, f"a recipe without its files: {bullet[:60]}"
+        recipes[title.group(1)] = re.findall(r"`([^`]+)`", files[1])
+    return recipes
+
+
+def test_every_recipe_names_files_that_exist():
+    for title, files in _recipes().items():
+        assert files, title
+        for name in files:
+            known = ROOT / name.split("NAME")[0].rpartition("/")[0]  # a new file's place: where it goes
+            assert known.exists(), f"{title}: {name}"
+
+
+def test_each_recipe_names_where_its_kind_is_registered():
+    """The table a new kind joins, and the files derived from the code that reads it."""
+    from mazegen import controllers, export_formats, fitness_terms
+    from mazegen.cli import main
+    from mazegen.dsl.metamodel import GRAMMAR_FILE
+    from mazegen.runtime import metrics
+    from mazegen.runtime.simulation import _loop
+
+    def relative(module_file: str | Path) -> str:
+        return Path(module_file).resolve().relative_to(ROOT).as_posix()
+
+    needed = {
+        "A fitness term": [fitness_terms.__file__, GRAMMAR_FILE, metrics.__file__, ROOT / "docs/language.md"],
+        "An exporter": [export_formats.__file__, ROOT / "docs/exports.md"],
+        "A command": [main.__file__],
+        "A new controller": [controllers.__file__, _loop.__file__, ROOT / "docs/simulation.md"],
+        "A new room": [ROOT / "pyproject.toml", Path(__file__)],
+    }
+    recipes = _recipes()
+    assert set(needed) == set(recipes)
+    for title, files in needed.items():
+        for file in files:
+            assert relative(file) in recipes[title], f"{title} does not name {relative(file)}"

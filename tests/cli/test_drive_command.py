@@ -422,7 +422,7 @@ def test_a_floor_whose_arena_differs_otherwise_is_refused_saying_what_differs(
 def test_out_holds_the_folder_so_a_second_drive_into_it_is_refused_and_loses_nothing(
     factory_run, tmp_path, monkeypatch
 ):
-    from mazegen.runtime.runs import locks
+    from mazegen.runtime.runs import _locks as locks
     from mazegen.runtime.runs._results import RunDirectoryWriter
 
     if locks.fcntl is None:

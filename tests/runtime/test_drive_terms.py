@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from mazegen.runtime import metrics, simulation
-from mazegen.runtime.engine import operators as ops
+from mazegen.runtime.engine import _operators as ops
 from mazegen.runtime.engine._evolution import evolve
 from mazegen.runtime.simulation import ARRIVED
 from mazegen.spec import Evolution, FitnessTerm

@@ -46,7 +46,7 @@ def test_an_edit_to_any_kernel_file_starts_a_fresh_cache(tmp_path):
     shutil.copytree(Path(mazegen.runtime.__file__).parent, copy, ignore=shutil.ignore_patterns("__pycache__"))
     before = _kernel_cache_dir(copy)
     assert before == _kernel_cache_dir(copy)
-    rectangles = copy / "geometry" / "rectangles.py"
+    rectangles = copy / "geometry" / "_rectangles.py"
     rectangles.write_text(rectangles.read_text() + "\n# edited\n")
     assert _kernel_cache_dir(copy) != before
 

@@ -17,7 +17,7 @@ import jsonschema
 import pytest
 
 from mazegen.errors import MazeError
-from mazegen.runtime.documents import scenario_rules
+from mazegen.runtime.documents import _scenario_rules as scenario_rules
 from mazegen.runtime.documents._floor import EXPORT_METRES_PER_UNIT
 from mazegen.runtime.documents._scenario import read_document
 from mazegen.runtime.documents._scenario_rules import DOCUMENT, Fields, Flag, Items, Number, Rule, Text

@@ -9,8 +9,8 @@ import itertools
 import numpy as np
 import pytest
 
-from mazegen.runtime.engine import operators as ops
-from mazegen.runtime.engine import used_operators as uo
+from mazegen.runtime.engine import _operators as ops
+from mazegen.runtime.engine import _used_operators as uo
 from mazegen.runtime.engine._breeding import breed, make_children
 from mazegen.spec import CROSSOVER_OPERATORS, MUTATION_OPERATORS, Evolution
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mazegen.runtime.engine import operators as ops
+from mazegen.runtime.engine import _operators as ops
 from mazegen.runtime.engine._population import GENE_MAX
 
 

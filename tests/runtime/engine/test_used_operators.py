@@ -8,8 +8,8 @@ import dataclasses
 import numpy as np
 import pytest
 
-from mazegen.runtime.engine import operators as ops
-from mazegen.runtime.engine import used_operators as uo
+from mazegen.runtime.engine import _operators as ops
+from mazegen.runtime.engine import _used_operators as uo
 from mazegen.runtime.engine._breeding import breed
 from mazegen.runtime.engine._evolution import evolve
 from mazegen.runtime.engine._mapping import NO_ELEMENT

@@ -16,10 +16,10 @@ import pytest
 import mazegen
 from mazegen import api, fileio
 from mazegen.errors import MazeError
-from mazegen.runtime.catalog import catalog as catalog_module
+from mazegen.runtime.catalog import _catalog as catalog_module
 from mazegen.runtime.catalog._catalog import Catalog
 from mazegen.runtime.documents._folders import RunDirectory
-from mazegen.runtime.runs import results
+from mazegen.runtime.runs import _results as results
 from mazegen.runtime.runs._results import RunDirectoryWriter, staged_directory
 from tests.runtime.rundirs import SMALL, SPEC, Killed, file_digests, invoke, small_run
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from mazegen.errors import MazeError
-from mazegen.runtime.runs import locks
+from mazegen.runtime.runs import _locks as locks
 from mazegen.runtime.runs._locks import writing_checkpoints
 from mazegen.runtime.runs._results import RunDirectoryWriter
 
