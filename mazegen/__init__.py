@@ -1,6 +1,6 @@
 """MazeGen: robot-navigation scenarios from a small language, by grammatical evolution.
 
-The API (``load``, ``build``, ``run``, ``resume``, ``sweep``) lives in :mod:`mazegen.api`;
+The API (``load``, ``build``, ``run``, ``resume``, ``sweep``, ``drive``) lives in :mod:`mazegen.api`;
 it and the types it returns are imported on first use, so that ``import mazegen`` stays
 light for the command line.
 """
@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from mazegen.api import build, load, resume, run, sweep
+    from mazegen.api import build, drive, load, resume, run, sweep
     from mazegen.errors import MazeError
     from mazegen.runtime.plugin_view import Floors
     from mazegen.runtime.runs import ExperimentResult
@@ -20,6 +20,7 @@ from mazegen.version import __version__ as __version__  # the package states its
 
 _HOMES = {
     "build": "mazegen.api",
+    "drive": "mazegen.api",
     "load": "mazegen.api",
     "run": "mazegen.api",
     "resume": "mazegen.api",
@@ -31,7 +32,18 @@ _HOMES = {
 }
 """Each public name and the module that defines it."""
 
-__all__ = ["ExperimentResult", "Floors", "MazeError", "Spec", "build", "load", "resume", "run", "sweep"]
+__all__ = [
+    "ExperimentResult",
+    "Floors",
+    "MazeError",
+    "Spec",
+    "build",
+    "drive",
+    "load",
+    "resume",
+    "run",
+    "sweep",
+]
 
 
 def __getattr__(name: str) -> Any:

@@ -17,7 +17,7 @@ import os
 import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from mazegen.dsl.loader import load_spec
 from mazegen.errors import MazeError
@@ -25,7 +25,12 @@ from mazegen.generator.build import build as build_files
 from mazegen.spec import Spec
 
 if TYPE_CHECKING:
+    from mazegen.runtime.documents import Drive, Floor
     from mazegen.runtime.runs import Executor, Experiment, ExperimentResult, Reporter
+
+
+Scenarios = str | os.PathLike[str] | Mapping[str, Any]
+"""A scenario file, a folder of them (a run, a suite) or a scenario document."""
 
 
 def load(path: str | os.PathLike[str]) -> Spec:
@@ -220,6 +225,51 @@ def sweep(
             )
         )
         return [(cell.run_dir, None if cell.state == "finished" else next(results)) for cell in cells]
+
+
+def drive(
+    scenarios: str
+    | os.PathLike[str]
+    | Mapping[str, Any]
+    | Sequence[str | os.PathLike[str] | Mapping[str, Any]],
+    controllers: str | Sequence[str],
+    *,
+    spec: Spec | str | os.PathLike[str] | None = None,
+) -> list[Drive]:
+    """Drive each controller through each scenario and return one :class:`Drive` per episode, in
+    the order of the scenarios (a folder's in its order) and, within one, of the controllers.
+
+    ``scenarios`` are scenario files, run or suite directories, folders of scenario files, or
+    scenario documents (dicts, as :func:`json.load` reads them; they need ``spec``), any mix. Each
+    scenario drives on its own start and goal, with the robot of its spec (``spec``, or the one
+    found in its run or suite directory). A controller is a bundled name, ``package.module:name``
+    or a name an installed package registers. Floors not driven for want of a path say
+    ``no path``.
+
+    Raises:
+        MazeError: for a scenario that cannot be read or driven, naming it.
+    """
+    from mazegen.runtime.documents import checked_document, drive_floors, floor_of, load_floor, scenario_files
+
+    given = spec if isinstance(spec, Spec) or spec is None else load_spec(spec)
+    names = [controllers] if isinstance(controllers, str) else list(controllers)
+    if not names:
+        raise MazeError("drive needs at least one controller")
+    items = [scenarios] if isinstance(scenarios, str | os.PathLike | Mapping) else list(scenarios)
+    floors: list[Floor] = []
+    for number, item in enumerate(items, 1):
+        if isinstance(item, Mapping):
+            name = f"scenario {number}"
+            if given is None:
+                raise MazeError("a scenario document needs its spec: give spec=", filename=name)
+            floors.append(floor_of(checked_document(dict(item), name), Path(name), given))
+        else:
+            paths = [path for path, _ in scenario_files(Path(item), any_folder=True)]
+            floors += [load_floor(path, given) for path in paths]
+    position = {id(floor): index for index, floor in enumerate(floors)}
+    ordered, drives = drive_floors(floors, names)
+    by_input = sorted(zip(ordered, drives), key=lambda pair: position[id(pair[0])])
+    return [result for _, row in by_input for result in row]
 
 
 def _resumable(run_dir: Path, build: Path) -> Experiment:

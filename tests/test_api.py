@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import dataclasses
 import inspect
+import json
+from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
@@ -66,3 +69,26 @@ def test_sweep_then_resume_from_python(tmp_path):
 def test_a_sweep_too_large_is_refused_before_its_values_are_spelled_out(tmp_path):
     with pytest.raises(MazeError, match="seed: 999999999 values; a sweep has at most 10000 cells"):
         mazegen.sweep([EXAMPLES / "factory.maze"], {"seed": range(1, 10**9)}, out_dir=tmp_path)
+
+
+def test_drive_takes_scenario_files_folders_and_documents(tmp_path):
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    router = {"type": "router", "x": 700, "y": 300, "size": 30}
+    wall = {"type": "productionLine", "x": 700, "y": 525, "width": 1400, "depth": 80, "rotation": 0}
+    folder = tmp_path / "floors"
+    folder.mkdir()
+    for number, elements in enumerate([[router], [wall]], start=1):
+        document = {"format": "mazegen-scenario", "version": 1, "scenario": "factory", "elements": elements}
+        (folder / f"floor-{number}.json").write_text(json.dumps(document), encoding="utf-8")
+    given = {"format": "mazegen-scenario", "version": 1, "scenario": "factory", "elements": [router]}
+    drives = mazegen.drive([folder, given], ["straight", "purepursuit"], spec=spec)
+    assert [(Path(d.file).name, d.controller) for d in drives] == [
+        (name, controller)
+        for name in ("floor-1.json", "floor-2.json", "scenario 2")
+        for controller in ("straight", "purepursuit")
+    ]
+    assert [d.outcome for d in drives[2:4]] == ["no path", "no path"]  # the wall closes the floor
+    same = [dataclasses.replace(d, file="") for d in (drives[0], drives[1])]
+    assert [dataclasses.replace(d, file="") for d in drives[4:]] == same  # one floor, given twice
+    with pytest.raises(MazeError, match=r"^scenario 1: a scenario document needs its spec: give spec="):
+        mazegen.drive(given, "straight")

@@ -72,7 +72,7 @@ controller_option = click.option(
 
 
 @click.command()
-@click.argument("source", type=click.Path(exists=True, path_type=Path))
+@click.argument("sources", nargs=-1, required=True, type=click.Path(exists=True, path_type=Path))
 @controller_option
 @click.option(
     "--spec",
@@ -86,13 +86,19 @@ controller_option = click.option(
     "-o",
     "--out",
     type=click.Path(file_okay=False, path_type=Path),
-    help="Write each scenario with its drive, and its picture, here (the source's own folder: in place).",
+    help="Write each scenario with its drive, and its picture, here (the source's own folder: in place; "
+    "with several sources, each under a folder of its name).",
 )
 @reports_errors
 def drive(
-    source: Path, controllers: tuple[str, ...], spec: Path | None, as_json: bool, out: Path | None
+    sources: tuple[Path, ...],
+    controllers: tuple[str, ...],
+    spec: Path | None,
+    as_json: bool,
+    out: Path | None,
 ) -> None:
-    """Drive robots through SOURCE (a scenario file, or every scenario of a run or suite directory).
+    """Drive robots through SOURCES: scenario files, run or suite directories (their scenarios),
+    folders of scenario files, any mix; the floors of one spec drive in one batch.
 
     Prints per scenario and controller the outcome, time, distance driven and closest approach,
     then per controller the success rate and BARN's mean score. The robot is the spec's, or the
@@ -102,7 +108,7 @@ def drive(
         raise MazeError("give at least one --controller NAME")
     names = controller_names(controllers)
     from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
-    from mazegen.runtime.documents import Floors, scenario_files, summaries
+    from mazegen.runtime.documents import drive_floors, summaries
     from mazegen.runtime.runs import folder_in_use
 
     resolved = _load_spec(spec)
@@ -110,17 +116,12 @@ def drive(
     # -o: the folder is held from the first read to the last write; a second drive into it, a run or
     # a resume of it is refused meanwhile, instead of one overwriting the other's results.
     with contextlib.nullcontext() if out is None else folder_in_use(out):
-        files = scenario_files(source)
+        files = _source_files(sources)
         loaded, failed = _load_floors(files, resolved)
-        drives: list[list[Drive]] = []
-        floors_of: list[Floor] = []
         with noting_compiles(say, "drive", DRIVE_SECONDS):
-            for group_spec, floors in _by_spec(loaded).items():
-                batch = Floors.of(group_spec, [(floor.where, floor.document) for floor in floors])
-                for file in batch.without_path:
-                    say(no_path_line(file, batch))
-                drives += batch.drive(names)
-                floors_of += floors
+            floors_of, drives = drive_floors(
+                loaded, names, no_path=lambda file, batch: say(no_path_line(file, batch))
+            )
         if as_json:
             for row in drives:
                 for result in row:
@@ -131,7 +132,7 @@ def drive(
             click.echo()
             click.echo(summary_table(summaries(drives, names)))
         if out is not None:
-            _write(floors_of, drives, {path: sub for path, sub in files}, out)
+            _write(floors_of, drives, dict(files), out)
     if failed:
         raise SystemExit(1)
 
@@ -167,13 +168,17 @@ def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[lis
     return floors, failed
 
 
-def _by_spec(floors: list[Floor]) -> dict[Spec, list[Floor]]:
-    """The floors grouped by their spec, in order: each group drives as one batch."""
-    groups: dict[Spec, list[Floor]] = {}
-    for floor in floors:
-        assert floor.spec is not None  # checked by _load_floors
-        groups.setdefault(floor.spec, []).append(floor)
-    return groups
+def _source_files(sources: Sequence[Path]) -> list[tuple[Path, Path]]:
+    """Every scenario file of ``sources``, each once, with the folder ``-o`` writes it into: its
+    place in its source, under the source's name when several sources are given."""
+    from mazegen.runtime.documents import scenario_files
+
+    found: dict[Path, tuple[Path, Path]] = {}
+    for source in sources:
+        below = Path(source.name) if len(sources) > 1 and source.is_dir() else Path()
+        for path, folder in scenario_files(source, any_folder=True):
+            found.setdefault(path.resolve(), (path, below / folder))
+    return list(found.values())
 
 
 def no_path_line(file: str, floors: Floors) -> str:
@@ -242,9 +247,16 @@ def _write(floors: list[Floor], drives: list[list[Drive]], subfolders: dict[Path
     from mazegen.runtime.documents import dumps, with_drives
     from mazegen.runtime.reports import render_file
 
-    made = []
+    made, targets = [], dict[Path, Path]()
     for floor, row in zip(floors, drives):
         target = out / subfolders[floor.source] / floor.source.name
+        if target in targets:
+            raise MazeError(
+                f"{printable(str(floor.source))} and {printable(str(targets[target]))} would both be written "
+                "to this file: drive them into different folders",
+                filename=str(target),
+            )
+        targets[target] = floor.source
         document = with_drives(floor.document, row)
         made.append((target, document, dumps(document, str(target))))
     for target, document, text in made:

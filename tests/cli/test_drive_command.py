@@ -23,7 +23,7 @@ import mazegen
 import mazegen.runtime.simulation as simulation
 from mazegen.cli.main import main
 from mazegen.errors import MazeError
-from mazegen.runtime.documents._scenario import read_document
+from mazegen.runtime.documents._scenario import arena_document, read_document
 from mazegen.spec import robot_for
 from tests.conftest import EXAMPLES, ROOT
 from tests.runtime.fake_drive import fake_drive
@@ -461,3 +461,66 @@ def test_file_names_are_printed_escaped(suite, tmp_path, monkeypatch):
     for output in (driven.stdout, driven.stderr, written.stderr):  # the table, no path, wrote
         assert "\x1b" not in output and "\x07" not in output
         assert "we\\x1b]0;TITLE\\x07ird" in output, output
+
+
+def _suite_of(folder: Path, spec: Path, floors: list[list[dict]], scenario: str) -> Path:
+    """A suite-like folder of ``spec``: its spec.json and one scenario file per floor."""
+    folder.mkdir()
+    (folder / "spec.json").write_text(mazegen.load(spec).to_json(), encoding="utf-8")
+    for number, elements in enumerate(floors, start=1):
+        document = {"format": "mazegen-scenario", "version": 1, "scenario": scenario, "elements": elements}
+        (folder / f"scenario-{number:02d}.json").write_text(json.dumps(document), encoding="utf-8")
+    return folder
+
+
+def test_floors_of_several_specs_and_sources_drive_as_each_alone(tmp_path):
+    """Suites of two specs, a floor on its own start and goal, and a plain folder of files, in one
+    command: each floor's episodes are those of driving it alone (the real simulator)."""
+    factory = _suite_of(tmp_path / "factory", EXAMPLES / "factory.maze", [OPEN, []], "factory")
+    figures = [{"type": "square", "x": 450, "y": 450, "size": 100}]
+    drawn = _suite_of(tmp_path / "drawn", EXAMPLES / "mazegen1.maze", [figures, []], "mazegen1")
+    moved = json.loads((factory / "scenario-01.json").read_text())
+    arena = arena_document(mazegen.load(EXAMPLES / "factory.maze"))
+    (factory / "scenario-03.json").write_text(
+        json.dumps({**moved, "arena": {**arena, "start": [100, 900], "goal": [1300, 100]}}), encoding="utf-8"
+    )  # its own task: a batch of its own
+    assert invoke(str(drawn), "-c", "straight", "-o", str(tmp_path / "written")).exit_code == 0
+    loose = tmp_path / "loose"  # any folder: its scenario files, of the spec beside them
+    loose.mkdir()
+    shutil.copy(drawn / "spec.json", loose / "spec.json")
+    shutil.copy(tmp_path / "written" / "scenario-02.json", loose / "copied.json")
+    sources = [factory, drawn, loose]
+    together = invoke(*map(str, sources), "--controller", "straight,purepursuit", "--json")
+    assert together.exit_code == 0, together.output
+    rows = [json.loads(line) for line in together.stdout.splitlines()]
+    assert len(rows) == 6 * 2
+    alone = []
+    for file in [*sorted(factory.glob("scenario-*.json")), *sorted(drawn.glob("scenario-*.json"))]:
+        result = invoke(str(file), "--controller", "straight,purepursuit", "--json")
+        alone += [json.loads(line) for line in result.stdout.splitlines()]
+    by_file = {(row["file"], row["controller"]): row for row in rows}
+    for row in alone:
+        assert by_file[(row["file"], row["controller"])] == row
+    copied = [row for row in rows if row["file"].endswith("copied.json")]
+    twin = [by_file[(str(drawn / "scenario-02.json"), name)] for name in ("straight", "purepursuit")]
+    assert [row["outcome"] for row in copied] == [row["outcome"] for row in twin]
+
+
+def test_two_sources_that_would_write_one_file_are_refused_before_any_is_written(suite, tmp_path):
+    other = tmp_path / "other"
+    shutil.copytree(suite, other)
+    out = tmp_path / "out"
+    result = invoke(
+        str(suite / "scenario-01.json"), str(other / "scenario-01.json"), "-c", "dwa", "-o", str(out)
+    )
+    assert result.exit_code == 1
+    first, second = suite / "scenario-01.json", other / "scenario-01.json"
+    assert result.stderr == (
+        f"{out / 'scenario-01.json'}: {second} and {first} would both be written to this file: "
+        "drive them into different folders\n"
+    )
+    assert not list(out.rglob("*.json"))
+    assert invoke(str(suite), str(other), "-c", "dwa", "-o", str(out)).exit_code == 0  # folders: one each
+    assert sorted(path.relative_to(out).as_posix() for path in out.rglob("*.json")) == [
+        f"{folder}/scenario-{number:02d}.json" for folder in ("other", "suite") for number in (1, 2, 3)
+    ]

@@ -15,15 +15,17 @@ if TYPE_CHECKING:
         Drive,
         Floors,
         Summary,
+        drive_floors,
         driving_robot,
         spec_controllers,
         summaries,
         with_drives,
     )
-    from mazegen.runtime.documents._floor import Floor, load_floor, safe_name
+    from mazegen.runtime.documents._floor import Floor, floor_of, load_floor, safe_name
     from mazegen.runtime.documents._folders import RunDirectory, SuiteDirectory, scenario_files
     from mazegen.runtime.documents._scenario import (
         check_complete,
+        checked_document,
         completed_document,
         dumps,
         has_parts,
@@ -46,9 +48,12 @@ __all__ = [
     "best_documents",
     "check_complete",
     "check_document",
+    "checked_document",
     "completed_document",
+    "drive_floors",
     "driving_robot",
     "dumps",
+    "floor_of",
     "has_parts",
     "load_floor",
     "population_from_document",
@@ -68,6 +73,7 @@ __getattr__ = lazy_names(
         "_best": ["best_documents", "row_document"],
         "_driving": [
             "Drive",
+            "drive_floors",
             "driving_robot",
             "Floors",
             "spec_controllers",
@@ -75,10 +81,11 @@ __getattr__ = lazy_names(
             "Summary",
             "with_drives",
         ],
-        "_floor": ["Floor", "load_floor", "safe_name"],
+        "_floor": ["Floor", "floor_of", "load_floor", "safe_name"],
         "_folders": ["RunDirectory", "scenario_files", "SuiteDirectory"],
         "_scenario": [
             "check_complete",
+            "checked_document",
             "completed_document",
             "dumps",
             "has_parts",

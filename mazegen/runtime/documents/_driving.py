@@ -10,13 +10,14 @@ document carries (``docs/scenario-format.md``).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from mazegen.errors import MazeError
+from mazegen.runtime.documents._floor import Floor
 from mazegen.runtime.documents._scenario import DIGITS, population_from_documents
 from mazegen.runtime.engine import Population
 from mazegen.runtime.geometry import ElementTable
@@ -196,6 +197,31 @@ class Floors:
             for row, index in enumerate(indices.tolist()):
                 drives[index][column] = episode_drive(self.files[index], episodes, row, scores)
         return drives
+
+
+def drive_floors(
+    floors: Sequence[Floor],
+    controllers: Sequence[str],
+    *,
+    no_path: Callable[[str, Floors], None] | None = None,
+) -> tuple[list[Floor], list[list[Drive]]]:
+    """Drive each floor with each controller: the floors of one spec (a floor's own start and goal
+    make a spec of their own) in one batch per controller. Returns the floors grouped by spec, in
+    the order each spec first appears, and their drives, ``[floor][controller]`` in that order;
+    ``no_path`` is told of each floor not driven for want of a path, before any is driven."""
+    groups: dict[Spec, list[Floor]] = {}
+    for floor in floors:
+        groups.setdefault(floor.needs_spec("driving"), []).append(floor)
+    ordered: list[Floor] = []
+    drives: list[list[Drive]] = []
+    for spec, group in groups.items():
+        batch = Floors.of(spec, [(floor.where, floor.document) for floor in group])
+        if no_path is not None:
+            for file in batch.without_path:
+                no_path(file, batch)
+        drives += batch.drive(controllers)
+        ordered += group
+    return ordered, drives
 
 
 def driving_robot(spec: Spec, filename: str) -> Robot:

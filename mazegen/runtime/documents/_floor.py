@@ -173,19 +173,27 @@ class Floor:
 
 
 def load_floor(path: Path, spec: Spec | None = None) -> Floor:
-    """Read a scenario file, with its spec when given or found beside it.
+    """Read a scenario file, with its spec when given or found beside it (:func:`floor_of`).
+
+    Raises:
+        MazeError: For an unreadable file, and as :func:`floor_of` does.
+    """
+    return floor_of(read_document(path), path, spec)
+
+
+def floor_of(document: dict[str, Any], path: Path, spec: Spec | None = None) -> Floor:
+    """A checked scenario document as a floor, with its spec when given or found beside ``path``.
 
     A document without every element's ``parts`` or without a ``path`` (hand-written,
     or written before paths were recorded) is completed from the spec when there is one.
     A document's own start and goal are kept: the floor's spec has them.
 
     Raises:
-        MazeError: For an unreadable file, a document that is not a scenario or is
-            damaged, a spec given whose arena differs from the document's otherwise than
-            in its start and goal (saying what differs), or parts missing with no spec.
+        MazeError: For a document that is not a scenario or is damaged, a spec given whose arena
+            differs from the document's otherwise than in its start and goal (saying what differs),
+            or parts missing with no spec.
     """
     filename, explicit = str(path), spec is not None
-    document = read_document(path)
     spec = spec if explicit else _found_spec(path, document)
     spec_arena, unlike_spec = None, None
     if spec is not None:

@@ -196,13 +196,21 @@ def check_complete(document: dict[str, Any], filename: str) -> None:
 
 
 def read_document(path: Path) -> dict[str, Any]:
-    """Read a scenario file, every field it has checked (:mod:`~mazegen.runtime.documents._scenario_rules`).
+    """Read a scenario file, every field it has checked (:func:`checked_document`).
 
     Raises:
         MazeError: Naming the file, and the line or the JSON path of what is wrong.
     """
-    filename = str(path)
-    document = read_json(path)
+    return checked_document(read_json(path), str(path))
+
+
+def checked_document(document: Any, filename: str) -> dict[str, Any]:
+    """``document`` if it is a scenario document of this version, every field it has checked
+    (:mod:`~mazegen.runtime.documents._scenario_rules`).
+
+    Raises:
+        MazeError: Naming ``filename`` and the JSON path of what is wrong.
+    """
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         raise MazeError(f'not a scenario file (expected "format": "{FORMAT}")', filename=filename)
     if document.get("version") != VERSION:
