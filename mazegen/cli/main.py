@@ -7,6 +7,7 @@ them all): ``mazegen check`` then loads the language, not numba and the engine.
 from __future__ import annotations
 
 import importlib
+import keyword
 
 import click
 
@@ -23,6 +24,7 @@ COMMANDS = {
     "scenarios": "scenarios",
     "suite": "suite",
     "map": "map_command",
+    "import": "import_command",
     "score": "score",
     "drive": "drive",
     "render": "render",
@@ -30,7 +32,8 @@ COMMANDS = {
     "report": "report",
     "plugins": "plugins",
 }
-"""Sub-command name -> the name of its click command in module ``mazegen.cli.<sub-command>``."""
+"""Sub-command name -> the name of its click command in module ``mazegen.cli.<sub-command>``
+(``<sub-command>_`` for a Python keyword: ``mazegen.cli.import_``)."""
 
 
 class LazyGroup(click.Group):
@@ -42,7 +45,7 @@ class LazyGroup(click.Group):
     def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
         if cmd_name not in COMMANDS:
             return None
-        module = importlib.import_module(f"mazegen.cli.{cmd_name}")
+        module = importlib.import_module(f"mazegen.cli.{cmd_name}{'_' * keyword.iskeyword(cmd_name)}")
         command: click.Command = getattr(module, COMMANDS[cmd_name])
         return command
 

@@ -14,6 +14,7 @@ HUGE = "99999999999999999999"
 EXPORT = ["export", FACTORY, "-f"]
 SCALES = "from 1e-06 to 1000 metres per arena unit"
 FORMATS = "bundled: ros, gazebo, irsim, movingai, json, svg, png"
+WAREHOUSE = str(EXAMPLES / "maps" / "warehouse.yaml")
 DIGITS_400 = "1" + "0" * 400
 """More digits than a float holds: still one short line."""
 
@@ -50,6 +51,12 @@ BAD_COMMAND_LINES = [
     (["suite", FACTORY, "--batch", "1"], "--batch must be from 2 to 1000000, got 1"),
     (["suite", FACTORY, "--seed", HUGE], f"--seed must be from 0 to {SEED_MAX}, got {HUGE}"),
     (["map", FACTORY, "3", HUGE], f"codon must be from 0 to 2147483647, got {HUGE}"),
+    (["import", WAREHOUSE, "-o", "out"], f"{WAREHOUSE}: give --start X,Y and --goal X,Y, or --tasks N"),
+    (["import", WAREHOUSE, "--tasks", "0", "-o", "out"], "--tasks must be from 1 to 1000, got 0"),
+    (
+        ["import", WAREHOUSE, "--tasks", "1", "--robot-radius", HUGE, "-o", "out"],
+        f"--robot-radius must be from 0 to 100 metres, got {HUGE}",
+    ),
     (["map", FACTORY, "3", "--wraps", "101"], "--wraps must be from 0 to 100, got 101"),
     (["sweep", FACTORY, "--runs", HUGE], f"--runs must be from 1 to 10000, got {HUGE}"),
     (

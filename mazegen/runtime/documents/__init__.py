@@ -1,6 +1,7 @@
 """Scenario documents, MazeGen's output: made from a population and read back, their
 validation rules, the best distinct scenarios of a run, scoring documents under a spec, a
-scenario file read with its spec (a floor), and the layout of the folders that hold them.
+scenario file read with its spec (a floor), documents imported from occupancy maps, and the layout
+of the folders that hold them.
 
 See ``docs/architecture.md`` for where this sits among the runtime's rooms.
 """
@@ -23,6 +24,8 @@ if TYPE_CHECKING:
     )
     from mazegen.runtime.documents._floor import Floor, floor_of, load_floor, safe_name
     from mazegen.runtime.documents._folders import RunDirectory, SuiteDirectory, scenario_files
+    from mazegen.runtime.documents._import import ImportedMap, wall_rectangles
+    from mazegen.runtime.documents._occupancy_maps import OccupancyMap, checked_resolution, read_occupancy_map
     from mazegen.runtime.documents._scenario import (
         check_complete,
         checked_document,
@@ -40,6 +43,8 @@ __all__ = [
     "Drive",
     "Floor",
     "Floors",
+    "ImportedMap",
+    "OccupancyMap",
     "RunDirectory",
     "Scored",
     "Scorer",
@@ -49,6 +54,7 @@ __all__ = [
     "check_complete",
     "check_document",
     "checked_document",
+    "checked_resolution",
     "completed_document",
     "drive_floors",
     "driving_robot",
@@ -58,12 +64,14 @@ __all__ = [
     "load_floor",
     "population_from_document",
     "read_document",
+    "read_occupancy_map",
     "row_document",
     "safe_name",
     "scenario_document",
     "scenario_files",
     "spec_controllers",
     "summaries",
+    "wall_rectangles",
     "with_drives",
 ]
 
@@ -83,6 +91,8 @@ __getattr__ = lazy_names(
         ],
         "_floor": ["Floor", "floor_of", "load_floor", "safe_name"],
         "_folders": ["RunDirectory", "scenario_files", "SuiteDirectory"],
+        "_import": ["ImportedMap", "wall_rectangles"],
+        "_occupancy_maps": ["checked_resolution", "OccupancyMap", "read_occupancy_map"],
         "_scenario": [
             "check_complete",
             "checked_document",

@@ -1,0 +1,314 @@
+"""Scenario documents from an occupancy map (``mazegen import``): its obstacle cells merged into walls, a
+spec of its arena for every command to read them under, and one document per task.
+
+The arena is the map's extent, in metres, its lower-left corner at (0, 0); its navigation grid is the
+map's cells. Each wall is a rect inset by :data:`INSET` of a cell on every side, so that the engine,
+which marks every cell a part touches, marks exactly the map's obstacle cells: an edge lying on a cell
+border would mark the neighbour too, and a document's four decimals could move it there.
+"""
+
+from __future__ import annotations
+
+import json
+from collections import deque
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from mazegen.errors import MazeError
+from mazegen.runtime.documents._occupancy_maps import OccupancyMap
+from mazegen.runtime.documents._scenario import FORMAT, VERSION, completed_document
+from mazegen.runtime.documents._task import task_spec
+from mazegen.spec import Point, Spec, task_point_problem
+
+INSET = 0.02
+"""Fraction of a cell each wall keeps off the cell borders: at the smallest resolution (0.01 m) still
+twice a document's rounding of a corner (1e-4 m)."""
+
+MAX_WALLS = 1000
+"""A scenario holds at most this many elements (the language's bound on ``max elements``)."""
+
+MAX_CELLS_PER_SIDE = 1024
+"""The most cells a side of the navigation grid may have (the language's bound on ``grid``)."""
+
+WALL = "wall"
+"""The one element type of an imported floor."""
+
+Cells = tuple[int, int, int, int]
+"""A rectangle of cells: first row, last row, first column, last column (row 0 the lowest)."""
+
+
+def wall_rectangles(occupied: np.ndarray) -> list[Cells]:
+    """Disjoint rectangles that together are exactly the ``True`` cells, few of them.
+
+    Row by row from the bottom, each run of cells not yet covered grows upwards while the row above
+    holds the same columns uncovered: a wall of equal rows is one rectangle.
+    """
+    left = occupied.copy()
+    rectangles = []
+    for row in range(left.shape[0]):
+        line = np.concatenate(([False], left[row], [False]))
+        edges = np.flatnonzero(line[1:] != line[:-1])
+        for first, end in zip(edges[::2].tolist(), edges[1::2].tolist()):
+            top = row
+            while top + 1 < left.shape[0] and left[top + 1, first:end].all():
+                top += 1
+            left[row : top + 1, first:end] = False
+            rectangles.append((row, top, first, end - 1))
+    return rectangles
+
+
+def _near(occupied: np.ndarray, radius_cells: float) -> np.ndarray:
+    """Cells with an obstacle cell's centre within ``radius_cells`` of theirs, the engine's disc
+    (``Grid.from_arena``): ``dy`` rows away, ``floor(sqrt(r^2 - dy^2))`` columns either side."""
+    rows, cols = occupied.shape
+    counts = np.pad(np.cumsum(occupied, axis=1), ((0, 0), (1, 0)))
+    near = np.zeros_like(occupied)
+    for dy in range(min(int(radius_cells), rows - 1) + 1):
+        span = int(np.floor(np.sqrt(max(radius_cells**2 - dy * dy, 0.0)) + 1e-9))
+        low, high = np.maximum(np.arange(cols) - span, 0), np.minimum(np.arange(cols) + span + 1, cols)
+        across = counts[:, high] > counts[:, low]  # an obstacle within span columns, in the same row
+        near[dy:] |= across[: rows - dy]
+        near[: rows - dy] |= across[dy:]
+    return near
+
+
+@dataclass(frozen=True)
+class ImportedMap:
+    """A map on its way to documents: its walls, its arena, and where the robot's centre may stand.
+
+    Attributes:
+        map: The map read.
+        robot_radius: The robot's radius, metres.
+    """
+
+    map: OccupancyMap
+    robot_radius: float
+
+    def __post_init__(self) -> None:
+        rows, cols = self.map.occupied.shape
+        if max(rows, cols) > MAX_CELLS_PER_SIDE or min(rows, cols) < 4:
+            raise MazeError(
+                f"the map is {cols} x {rows} cells: a floor has 4 to {MAX_CELLS_PER_SIDE} cells a side"
+            )
+        if 2 * self.robot_radius >= min(self.size):
+            raise MazeError(
+                f"a robot of radius {self.robot_radius:g} m does not fit in a map of {self.size[0]:g} x "
+                f"{self.size[1]:g} m"
+            )
+        if len(self.walls) > MAX_WALLS:
+            raise MazeError(
+                f"the map's obstacles make {len(self.walls)} walls: a scenario holds at most {MAX_WALLS} "
+                "(use a coarser map)"
+            )
+
+    @cached_property
+    def walls(self) -> list[Cells]:
+        """The obstacle cells merged into rectangles (:func:`wall_rectangles`)."""
+        return wall_rectangles(self.map.occupied)
+
+    @property
+    def size(self) -> Point:
+        """The arena's width and height, metres."""
+        rows, cols = self.map.occupied.shape
+        return round(cols * self.map.resolution, 9), round(rows * self.map.resolution, 9)
+
+    @cached_property
+    def robot_free(self) -> np.ndarray:
+        """``bool[rows, cols]``: cells where the robot's centre may stand, as the engine decides it: no
+        obstacle cell's centre within the radius of its centre, and no closer to the arena's edge."""
+        rows, cols = self.map.occupied.shape
+        blocked = _near(self.map.occupied, self.robot_radius / self.map.resolution)
+        centres_x = (np.arange(cols) + 0.5) * self.map.resolution
+        centres_y = (np.arange(rows) + 0.5) * self.map.resolution
+        width, height = self.size
+        r = self.robot_radius
+        blocked |= ((centres_y < r) | (centres_y > height - r))[:, None]
+        blocked |= ((centres_x < r) | (centres_x > width - r))[None, :]
+        return ~blocked
+
+    def arena_point(self, point: Point) -> Point:
+        """A point of the map's frame in the arena's."""
+        return round(point[0] - self.map.origin[0], 9), round(point[1] - self.map.origin[1], 9)
+
+    def map_point(self, point: Point) -> Point:
+        """A point of the arena in the map's frame."""
+        return round(point[0] + self.map.origin[0], 9), round(point[1] + self.map.origin[1], 9)
+
+    def checked_point(self, label: str, given: Point) -> Point:
+        """``given`` (the map's frame) in the arena, where the robot can stand.
+
+        Raises:
+            MazeError: For a point outside the map, on an obstacle cell (naming it), or nearer an
+                obstacle or the map's edge than the robot radius.
+        """
+        point = self.arena_point(given)
+        width, height = self.size
+        shown = f"{label} ({given[0]:g}, {given[1]:g})"
+        problem = task_point_problem(label, point, width, height, self.robot_radius)
+        if problem is not None and not (0 <= point[0] <= width and 0 <= point[1] <= height):
+            low, high = self.map_point((0.0, 0.0)), self.map_point((width, height))
+            raise MazeError(
+                f"{shown} is outside the map, which spans x {low[0]:g}..{high[0]:g}, "
+                f"y {low[1]:g}..{high[1]:g} ({self.map.frame} frame)"
+            )
+        if problem is not None:
+            raise MazeError(
+                f"{shown} is closer to the map's edge than the robot radius {self.robot_radius:g} m"
+            )
+        row, col = self._cell(point)
+        if self.map.occupied[row, col]:
+            raise MazeError(f"{shown} is on an obstacle: cell (column {col}, row {row} from the bottom)")
+        if not self.robot_free[row, col]:
+            raise MazeError(
+                f"{shown} is nearer an obstacle than the robot radius {self.robot_radius:g} m: "
+                f"cell (column {col}, row {row} from the bottom)"
+            )
+        return point
+
+    def _cell(self, point: Point) -> tuple[int, int]:
+        rows, cols = self.map.occupied.shape
+        cell = self.map.resolution
+        return min(int(point[1] // cell), rows - 1), min(int(point[0] // cell), cols - 1)
+
+    def random_tasks(self, count: int, seed: int) -> list[tuple[Point, Point]]:
+        """``count`` starts and goals at the centres of cells the robot can stand on, each goal reachable
+        from its start, drawn with ``numpy.random.default_rng(seed)``.
+
+        Raises:
+            MazeError: When no two free cells are connected for the robot.
+        """
+        labels = _components(self.robot_free).ravel()
+        free = np.flatnonzero(labels >= 0)
+        sizes = np.bincount(labels[free]) if free.size else np.zeros(0, dtype=np.int64)
+        candidates = free[sizes[labels[free]] >= 2]
+        if candidates.size == 0:
+            raise MazeError(
+                f"no two free cells are connected for a robot of radius {self.robot_radius:g} m: "
+                "no task can be drawn (give a smaller --robot-radius)"
+            )
+        rng = np.random.default_rng(seed)
+        cols = self.map.occupied.shape[1]
+        tasks = []
+        for _ in range(count):
+            start = int(rng.choice(candidates))
+            same = np.flatnonzero(labels == labels[start])
+            goal = int(rng.choice(same[same != start]))
+            tasks.append((self._centre(start, cols), self._centre(goal, cols)))
+        return tasks
+
+    def _centre(self, index: int, cols: int) -> Point:
+        row, col = divmod(index, cols)
+        cell = self.map.resolution
+        return round((col + 0.5) * cell, 9), round((row + 0.5) * cell, 9)
+
+    def maze_text(self, task: tuple[Point, Point], source: str) -> str:
+        """The spec of the floor, in the language: its arena, the wall type and a scenario of its walls."""
+        width, height = self.size
+        cell = self.map.resolution
+        smallest = round(cell * (1 - 2 * INSET), 9)
+        (sx, sy), (gx, gy) = task
+        origin = self.map.origin
+        return "\n".join(
+            [
+                f"// Imported by mazegen import from {json.dumps(source)}: {len(self.walls)} walls.",
+                f"// A point (x, y) of the {self.map.frame} frame is the arena's "
+                f"(x {_shift(-origin[0])}, y {_shift(-origin[1])}), metres.",
+                "",
+                f"element {WALL} {{",
+                "    shape rect",
+                f"    size {_number(smallest)}..{_number(width)} x {_number(smallest)}..{_number(height)}",
+                '    colour "#3d3d3d"  class wall  height 1',
+                "}",
+                "",
+                f"arena {self.map.name} {{",
+                f"    size {_number(width)} x {_number(height)} m",
+                f"    start ({_number(sx)}, {_number(sy)})   goal ({_number(gx)}, {_number(gy)})",
+                f"    robot radius {_number(self.robot_radius)}",
+                f"    grid {_number(cell)}",
+                "}",
+                "",
+                f"scenario {self.map.name} on {self.map.name} {{",
+                f"    elements {WALL}",
+                f"    max elements {max(len(self.walls), 1)}",
+                "}",
+                "",
+                "fitness {",
+                "    count",
+                "    solvable required",
+                "}",
+                "",
+            ]
+        )
+
+    def documents(self, spec: Spec, tasks: list[tuple[Point, Point]]) -> list[dict[str, Any]]:
+        """One complete scenario document per task, its walls the map's.
+
+        Raises:
+            MazeError: For a task whose start and goal the robot cannot connect.
+        """
+        cell = self.map.resolution
+        inset = INSET * cell
+        elements = [
+            {
+                "type": WALL,
+                "x": round((first_col + last_col + 1) * cell / 2, 9),
+                "y": round((first_row + last_row + 1) * cell / 2, 9),
+                "rotation": 0.0,
+                "width": round((last_col - first_col + 1) * cell - 2 * inset, 9),
+                "depth": round((last_row - first_row + 1) * cell - 2 * inset, 9),
+            }
+            for first_row, last_row, first_col, last_col in self.walls
+        ]
+        documents = []
+        for start, goal in tasks:
+            document = {"format": FORMAT, "version": VERSION, "scenario": spec.name, "elements": elements}
+            document["arena"] = {"start": list(start), "goal": list(goal)}
+            complete = completed_document(task_spec(spec, document, self.map.name), document, self.map.name)
+            if not complete["metrics"]["solvable"]:
+                (x0, y0), (x1, y1) = (self.map_point(point) for point in (start, goal))
+                raise MazeError(
+                    f"start ({x0:g}, {y0:g}) and goal ({x1:g}, {y1:g}) are not connected for a robot of "
+                    f"radius {self.robot_radius:g} m"
+                )
+            documents.append(complete)
+        return documents
+
+
+def _number(value: float) -> str:
+    """A number as the language writes it: decimals, no exponent (``1e-05`` is ``0.00001``)."""
+    text = f"{value:.9f}".rstrip("0").rstrip(".")
+    return text if text not in ("", "-0") else "0"
+
+
+def _shift(value: float) -> str:
+    return f"{'-' if value < 0 else '+'} {abs(value)!r}"
+
+
+def _components(free: np.ndarray) -> np.ndarray:
+    """``int[rows, cols]``: the 4-connected component of each free cell, -1 for a blocked one."""
+    rows, cols = free.shape
+    labels = np.full(free.shape, -1, dtype=np.int64)
+    flat_free, flat = free.ravel(), labels.ravel()
+    label = 0
+    for seed in np.flatnonzero(flat_free).tolist():
+        if flat[seed] >= 0:
+            continue
+        flat[seed] = label
+        queue = deque([seed])
+        while queue:
+            index = queue.popleft()
+            row, col = divmod(index, cols)
+            for neighbour, inside in (
+                (index - cols, row > 0),
+                (index + cols, row + 1 < rows),
+                (index - 1, col > 0),
+                (index + 1, col + 1 < cols),
+            ):
+                if inside and flat_free[neighbour] and flat[neighbour] < 0:
+                    flat[neighbour] = label
+                    queue.append(neighbour)
+        label += 1
+    return labels
