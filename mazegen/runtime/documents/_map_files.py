@@ -8,6 +8,7 @@ file (and its line where it has lines); what the values mean is
 
 from __future__ import annotations
 
+import io
 import re
 from pathlib import Path
 from typing import Any
@@ -138,8 +139,9 @@ def read_image(path: Path) -> tuple[np.ndarray, np.ndarray | None, int]:
     """
     from PIL import Image, UnidentifiedImageError
 
+    data = read_bytes(path, "map image", limit=MAX_MAP_BYTES)
     try:
-        with Image.open(path) as image:
+        with Image.open(io.BytesIO(data)) as image:
             if image.mode.startswith("I"):  # 16 or 32-bit grey
                 return np.asarray(image, dtype=np.int64), None, 65535
             has_alpha = "A" in image.getbands() or "transparency" in image.info

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import jsonschema
 import numpy as np
 import pytest
 import shapely
@@ -71,6 +72,7 @@ def test_a_grid_imports_to_exactly_its_cells(tmp_path):
     expected = np.array([[char == "#" for char in row] for row in rows])[::-1]  # the first line is the top
     assert np.array_equal(floor_cells(path), expected)
     document = json.loads(path.read_text())
+    jsonschema.validate(document, json.loads((ROOT / "docs" / "scenario.schema.json").read_text()))
     assert document["arena"]["width"] == 9.0 and document["arena"]["unit"] == "m"
     assert document["metrics"]["solvable"]
 
@@ -138,6 +140,23 @@ def test_modes_free_only_what_map_server_calls_free(tmp_path, mode, free_pixels)
     source = map_server_files(tmp_path, pixels, yaml, ascii_pgm=True)
     found = read_occupancy_map(source).occupied[0]
     assert found.tolist() == [value not in free_pixels for value in pixels[0]]
+
+
+def test_a_png_map_and_its_alpha_in_scale_mode(tmp_path):
+    from PIL import Image
+
+    rgba = np.zeros((6, 6, 4), dtype=np.uint8)
+    rgba[...] = (250, 252, 254, 255)  # free: the mean of the colours is light
+    rgba[0, :] = rgba[-1, :] = (0, 0, 0, 255)
+    rgba[2, 3] = (250, 252, 254, 0)  # transparent: unknown in scale mode, an obstacle
+    Image.fromarray(rgba, "RGBA").save(tmp_path / "m.png")
+    (tmp_path / "m.yaml").write_text(f"image: m.png\n{MAP_YAML}mode: scale\n")
+    expected = np.zeros((6, 6), dtype=bool)
+    expected[[0, -1], :] = True
+    expected[2, 3] = True
+    assert np.array_equal(read_occupancy_map(tmp_path / "m.yaml").occupied, expected[::-1])
+    (tmp_path / "m.yaml").write_text(f"image: m.png\n{MAP_YAML}")  # trinary: alpha does not count
+    assert read_occupancy_map(tmp_path / "m.yaml").occupied.sum() == 12
 
 
 def test_the_barn_worlds_path_is_free_in_the_imported_floor(tmp_path):
