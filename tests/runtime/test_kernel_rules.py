@@ -5,7 +5,7 @@ Python wrapper for exactly the kernels Python calls."""
 from __future__ import annotations
 
 import ast
-import re
+import tokenize
 from pathlib import Path
 
 from tests.conftest import ROOT
@@ -66,10 +66,12 @@ def test_kernels_have_a_python_wrapper_exactly_when_python_calls_them():
     ]
     outside: dict[str, int] = {}
     for path in sources:
-        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
-            if (path, number) not in bodies and path != Path(__file__):
-                for name in set(re.findall(r"\b\w+\b", line)):
-                    outside[name] = outside.get(name, 0) + 1
+        if path == Path(__file__):
+            continue
+        with path.open("rb") as code:  # names in code, not words of docstrings or comments
+            for token in tokenize.tokenize(code.readline):
+                if token.type == tokenize.NAME and (path, token.start[0]) not in bodies:
+                    outside[token.string] = outside.get(token.string, 0) + 1
     wrong = [
         f"{path.name}:{node.lineno} {node.name}"
         for path, node, decorator in kernels
