@@ -100,8 +100,12 @@ BUNDLED: dict[str, BundledController] = {
         summary="turn toward the goal and drive at top speed: a lower bound no planner should lose to",
         source="a proportional heading controller",
         parameters=(
-            Parameter("heading_gain", 2.0, NUMBER, "turn rate per radian of heading error", 0.0, 100),
-            Parameter("turn_in_place", 0.785, ANGLE, "heading error to turn on the spot at", 0.0, 3.15),
+            Parameter(
+                "heading_gain", 2.0, NUMBER, "turn rate per radian of heading error", 0.0, 100, "MazeGen's"
+            ),
+            Parameter(
+                "turn_in_place", 0.785, ANGLE, "heading error to turn on the spot at", 0.0, 3.15, "MazeGen's"
+            ),
         ),
     ),
     "dwa": BundledController(

@@ -7,7 +7,9 @@ from __future__ import annotations
 import ast
 import importlib
 import inspect
+import re
 import textwrap
+from pathlib import Path
 from types import ModuleType
 
 import numpy as np
@@ -126,3 +128,18 @@ def test_limits_arrays_are_built_in_limits_order():
 
     drive(population(arena, [[]]), robot=robot, controller=stand_still)
     assert dict(zip(LIMITS, seen[0], strict=True)) == expected  # what a policy is shown
+
+
+@pytest.mark.parametrize("name", list(BUNDLED))
+def test_the_docs_table_of_a_controller_is_its_row(name):
+    """docs/simulation.md lists each parameter as the row has it: in order, default, unit, source."""
+    page = (Path(__file__).resolve().parents[3] / "docs" / "simulation.md").read_text(encoding="utf-8")
+    section = re.search(rf"^###[^\n]*`{name}`[^\n]*\n(.*?)(?=^### |^## )", page, re.S | re.M)
+    assert section is not None, f"docs/simulation.md has no section on {name}"
+    rows = [
+        [cell.strip() for cell in line.split("|")[1:-1]]
+        for line in section.group(1).splitlines()
+        if re.match(r"^\| `\w+` \|", line)
+    ]
+    written = [(cells[0].strip("`"), float(cells[1]), cells[2], cells[4].replace("`", "")) for cells in rows]
+    assert written == [(p.name, p.default, p.unit, p.source) for p in BUNDLED[name].parameters]
