@@ -109,7 +109,7 @@ def arguments_problem(function: MetricFunction, arguments: dict[str, float]) -> 
     try:
         signature.bind(None, **arguments)
     except TypeError as error:
-        parameters = [p for p in list(signature.parameters)[1:]]
+        parameters = list(signature.parameters)[1:]
         takes = f"it takes {', '.join(parameters)}" if parameters else "it takes no arguments"
         return f"{error} ({takes} after the floors)"
     return None

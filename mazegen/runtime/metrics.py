@@ -222,11 +222,14 @@ def plugin_metric(
         raise
     except (Exception, SystemExit) as error:  # the plug-in's own failure, in one line
         raise failed(f"the plug-in raised {type(error).__name__}: {error}") from error
-    shape, kind = np.shape(values), np.asarray(values).dtype.kind
-    if shape != (pop.size,) or kind not in "biuf":
-        got = f"{np.asarray(values).dtype}{list(shape)}"
-        raise failed(f"the plug-in must return one number per floor, float64[{pop.size}], got {got}")
-    out = np.where(pop.valid, np.asarray(values, dtype=np.float64), 0.0)
+    wanted = f"the plug-in must return one number per floor, float64[{pop.size}]"
+    try:
+        array = np.asarray(values)
+    except (ValueError, TypeError) as error:  # a ragged list, say
+        raise failed(f"{wanted}, got a {type(values).__name__} that is no array") from error
+    if array.shape != (pop.size,) or array.dtype.kind not in "biuf":
+        raise failed(f"{wanted}, got {array.dtype}{list(array.shape)}")
+    out = np.where(pop.valid, array.astype(np.float64), 0.0)
     bad = np.flatnonzero(~np.isfinite(out))
     if bad.size:
         raise failed(f"the plug-in returned {out[bad[0]]} for floor {int(bad[0])} (a value must be finite)")

@@ -520,7 +520,7 @@ def test_two_sources_that_would_write_one_file_are_refused_before_any_is_written
         "drive them into different folders\n"
     )
     assert not list(out.rglob("*.json"))
-    assert invoke(str(suite), str(other), "-c", "straight", "-o", str(out)).exit_code == 0  # folders: one each
+    assert invoke(str(suite), str(other), "-c", "straight", "-o", str(out)).exit_code == 0  # one folder each
     assert sorted(path.relative_to(out).as_posix() for path in out.rglob("*.json")) == [
         f"{folder}/scenario-{number:02d}.json" for folder in ("other", "suite") for number in (1, 2, 3)
     ]

@@ -128,6 +128,11 @@ BAD_PLUGINS = [
     ),
     ("raises", "raise KeyError('dock')", "the plug-in raised KeyError: 'dock'"),
     (
+        "ragged",
+        "return [[1.0], [1.0, 2.0]]",
+        "the plug-in must return one number per floor, float64[60], got a list that is no array",
+    ),
+    (
         "writes the floors",
         "floors.x[0, 0] = 1.0",
         "the plug-in raised ValueError: assignment destination is read-only",
