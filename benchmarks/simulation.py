@@ -18,7 +18,9 @@ and with one. Prints one Markdown table per controller, and the targets: ``strai
 ``purepursuit`` at least 20,000 episodes/s on 2 cores, ``dwa`` 500 (its fields built inside the
 timed drive), ``vfh`` (a 360-beam lidar) 200 (the issue's; a loaded machine measures less).
 Then IR-SIM's table (``irsim_rows.py``): IR-SIM and MazeGen's simulator replaying the same commands
-on the first 400 valid floors, robot-steps per second without and with a 360-beam lidar.
+on the first 400 valid floors, robot-steps per second without and with a 360-beam lidar; and the
+heterogeneous case (``heterogeneous.py``): ``dwa`` over 300 floors of BARN's worlds, each its own
+spec and task, in one batch (the issue's goal: 500 episodes/s on 2 cores).
 """
 
 from __future__ import annotations
@@ -28,6 +30,8 @@ from collections.abc import Callable
 
 import numpy as np
 from common import markdown_table, median_seconds
+from heterogeneous import COLUMNS as HETEROGENEOUS_COLUMNS
+from heterogeneous import heterogeneous_rows
 from irsim_rows import COLUMNS as IRSIM_COLUMNS
 from irsim_rows import irsim_rows
 from kernels import evolved_sample, load_problem
@@ -102,6 +106,11 @@ SECTIONS: list[tuple[str, Callable[[Population, int], list[dict]], list[tuple[st
         "IR-SIM and MazeGen's simulator: the same floors, the same commands",
         lambda floors, repeats: irsim_rows(floors, repeats=repeats),
         IRSIM_COLUMNS,
+    ),
+    (
+        "Floors that share nothing: BARN's worlds, each its own spec and task, one batch (heterogeneous.py)",
+        lambda floors, repeats: heterogeneous_rows(["dwa"], repeats),
+        HETEROGENEOUS_COLUMNS,
     ),
 ]
 """Further tables after the controllers': (title, rows of the floors and repeats, columns)."""

@@ -267,19 +267,19 @@ def test_a_drive_that_compiles_says_so_once_and_one_that_does_not_says_nothing(s
     from numba import njit
 
     from mazegen.runtime.compiling import DRIVE_SECONDS, compile_note
-    from mazegen.runtime.documents._driving import Floors
+    from mazegen.runtime.documents import _driving
 
     monkeypatch.undo()  # the real note, not the tests' silence (conftest)
-    real_drive = Floors.drive
+    real_drive = _driving.drive_batches
 
-    def drive_compiling(self, names):  # as a drive whose controller was never compiled would
+    def drive_compiling(batches, names):  # as a drive whose controller was never compiled would
         njit(lambda x: x + 1)(1)
         njit(lambda x: x + 2)(1)
-        return real_drive(self, names)
+        return real_drive(batches, names)
 
     invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")  # compiles what is not cached
     quiet = invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")
-    monkeypatch.setattr(Floors, "drive", drive_compiling)
+    monkeypatch.setattr(_driving, "drive_batches", drive_compiling)
     noted = invoke(str(suite / "scenario-01.json"), "-c", "straight", "--json")
     assert quiet.exit_code == 0 and noted.exit_code == 0 and quiet.stdout == noted.stdout
     assert compile_note("drive", DRIVE_SECONDS) not in quiet.stderr
@@ -336,10 +336,12 @@ def test_a_drive_with_a_non_finite_number_writes_no_file_and_says_which_field(su
     import mazegen.runtime.simulation as simulation
 
     def broken(*args, **kwargs):
-        episodes = fake(*args, **kwargs)
-        return dataclasses.replace(episodes, time=np.where(np.arange(episodes.time.size) == 1, np.nan, 1.0))
+        return [
+            dataclasses.replace(episodes, time=np.where(np.arange(episodes.time.size) == 1, np.nan, 1.0))
+            for episodes in fake.many(*args, **kwargs)
+        ]
 
-    monkeypatch.setattr(simulation, "drive", broken)
+    monkeypatch.setattr(simulation, "drive_many", broken)
     before = {path.name: path.read_bytes() for path in suite.iterdir()}
     result = invoke(str(suite), "-c", "dwa", "-o", str(suite))  # in place
     assert result.exit_code == 1

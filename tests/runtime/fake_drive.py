@@ -56,6 +56,13 @@ class FakeDrive:
             trajectory=trajectory if record else None,
         )
 
+    def many(self, requests, *, record=False) -> list[Episodes]:
+        """``drive_many(...)``: each request as :meth:`__call__` drives it, a call each."""
+        return [
+            self(r.population, robot=r.robot, controller=r.controller, indices=r.indices, record=record)
+            for r in requests
+        ]
+
 
 def fake_drive(monkeypatch) -> FakeDrive:
     """Put a :class:`FakeDrive` in place of the simulator's ``drive`` and return it."""
@@ -63,4 +70,5 @@ def fake_drive(monkeypatch) -> FakeDrive:
 
     fake = FakeDrive()
     monkeypatch.setattr(simulation, "drive", fake, raising=False)
+    monkeypatch.setattr(simulation, "drive_many", fake.many, raising=False)
     return fake

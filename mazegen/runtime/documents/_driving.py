@@ -2,9 +2,9 @@
 
 The documents of one spec become one population; the floors where the robot has no path from
 start to goal are known before anything is driven (they are not driven: ``no path``); each
-controller then drives every other floor in one batch call of the simulator. What a drive gives
-is kept as a :class:`Drive` per floor and controller, which is also the ``drive`` section a
-document carries (``docs/scenario-format.md``).
+controller then drives every other floor, of every spec, in one batch call of the simulator.
+What a drive gives is kept as a :class:`Drive` per floor and controller, which is also the
+``drive`` section a document carries (``docs/scenario-format.md``).
 """
 
 from __future__ import annotations
@@ -178,25 +178,30 @@ class Floors:
     def drive(self, controllers: Sequence[str]) -> list[list[Drive]]:
         """Drive every floor with a path with each controller (with the spec's settings of it), one
         batch call per controller; ``[floor][controller]`` in the order of files and controllers."""
-        from mazegen.runtime.simulation import drive
+        return drive_batches([self], controllers)[0]
 
-        indices = np.flatnonzero(self.solvable)
-        robot = self.robot
-        drives = [[not_driven(file, name) for name in controllers] for file in self.files]
-        if indices.size == 0:
-            return drives
-        for column, name in enumerate(controllers):
-            episodes = drive(
-                self.population,
-                robot=robot,
-                controller=robot.controller(name),
-                indices=indices,
-                record=True,
+
+def drive_batches(batches: Sequence[Floors], controllers: Sequence[str]) -> list[list[list[Drive]]]:
+    """Drive every floor with a path of every batch (each with its spec's robot and settings of the
+    controller) with each controller: the floors of all batches in one batch of the simulator per
+    controller. ``[batch][floor][controller]``, in the order of batches, files and controllers."""
+    from mazegen.runtime.simulation import DriveRequest, drive_many
+
+    indices = [np.flatnonzero(batch.solvable) for batch in batches]
+    drives = [[[not_driven(file, name) for name in controllers] for file in batch.files] for batch in batches]
+    driven = [k for k, rows in enumerate(indices) if rows.size]
+    for column, name in enumerate(controllers):
+        requests = [
+            DriveRequest(
+                batches[k].population, batches[k].robot, batches[k].robot.controller(name), indices[k]
             )
+            for k in driven
+        ]
+        for k, episodes in zip(driven, drive_many(requests, record=True)):
             scores = episodes.score()
-            for row, index in enumerate(indices.tolist()):
-                drives[index][column] = episode_drive(self.files[index], episodes, row, scores)
-        return drives
+            for row, index in enumerate(indices[k].tolist()):
+                drives[k][index][column] = episode_drive(batches[k].files[index], episodes, row, scores)
+    return drives
 
 
 def drive_floors(
@@ -205,23 +210,22 @@ def drive_floors(
     *,
     no_path: Callable[[str, Floors], None] | None = None,
 ) -> tuple[list[Floor], list[list[Drive]]]:
-    """Drive each floor with each controller: the floors of one spec (a floor's own start and goal
+    """Drive each floor with each controller: the floors of every spec (a floor's own start and goal
     make a spec of their own) in one batch per controller. Returns the floors grouped by spec, in
     the order each spec first appears, and their drives, ``[floor][controller]`` in that order;
     ``no_path`` is told of each floor not driven for want of a path, before any is driven."""
     groups: dict[Spec, list[Floor]] = {}
     for floor in floors:
         groups.setdefault(floor.needs_spec("driving"), []).append(floor)
-    ordered: list[Floor] = []
-    drives: list[list[Drive]] = []
-    for spec, group in groups.items():
-        batch = Floors.of(spec, [(floor.where, floor.document) for floor in group])
-        if no_path is not None:
+    batches = [
+        Floors.of(spec, [(floor.where, floor.document) for floor in group]) for spec, group in groups.items()
+    ]
+    if no_path is not None:
+        for batch in batches:
             for file in batch.without_path:
                 no_path(file, batch)
-        drives += batch.drive(controllers)
-        ordered += group
-    return ordered, drives
+    drives = [row for batch_drives in drive_batches(batches, controllers) for row in batch_drives]
+    return [floor for group in groups.values() for floor in group], drives
 
 
 def driving_robot(spec: Spec, filename: str) -> Robot:

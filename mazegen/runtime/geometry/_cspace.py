@@ -100,9 +100,10 @@ def _end_cell(
     return int(nearest[0]), int(nearest[1])
 
 
-@lru_cache(maxsize=16)
+@lru_cache(maxsize=512)
 def grid_of(arena: Arena) -> Grid:
-    """The grid of ``arena``, built once per arena."""
+    """The grid of ``arena``, built once per arena (a drive of many imported maps, each an arena of its
+    own, holds each of theirs)."""
     return Grid.from_arena(arena)
 
 

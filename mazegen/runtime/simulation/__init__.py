@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mazegen.runtime.simulation._drive import drive
+    from mazegen.runtime.simulation._drive import DriveRequest, drive, drive_many
     from mazegen.runtime.simulation._episodes import (
         ARRIVED,
         COLLISION,
@@ -28,16 +28,18 @@ __all__ = [
     "NO_PATH",
     "OUTCOMES",
     "TIMEOUT",
+    "DriveRequest",
     "Episodes",
     "Observations",
     "barn_score",
     "drive",
+    "drive_many",
 ]
 
 __getattr__ = lazy_names(
     __name__,
     {
-        "_drive": ["drive"],
+        "_drive": ["drive", "drive_many", "DriveRequest"],
         "_episodes": ["ARRIVED", "barn_score", "COLLISION", "Episodes", "NO_PATH", "OUTCOMES", "TIMEOUT"],
         "_policy": ["Observations"],
     },

@@ -147,7 +147,7 @@ def distance(px, py, floor, world, cutoff):  # pragma: no cover - compiled
     """Distance from point ``p`` to the nearest part or wall of driven floor ``floor``, or
     ``cutoff`` when that is nearer (parts beyond it are culled by their boxes)."""
     first, vertices, count, box, size = world
-    best = min(px, size[0] - px, py, size[1] - py, cutoff)
+    best = min(px, size[floor, 0] - px, py, size[floor, 1] - py, cutoff)
     for q in range(first[floor], first[floor + 1]):
         gx = max(box[q, 0] - px, 0.0, px - box[q, 2])
         gy = max(box[q, 1] - py, 0.0, py - box[q, 3])
@@ -163,7 +163,7 @@ def sweep(x0, y0, x1, y1, r, floor, world):  # pragma: no cover - compiled
     first, vertices, count, box, size = world
     dx = x1 - x0
     dy = y1 - y0
-    best = min(_wall_entry(x0, dx, r, size[0]), _wall_entry(y0, dy, r, size[1]))
+    best = min(_wall_entry(x0, dx, r, size[floor, 0]), _wall_entry(y0, dy, r, size[floor, 1]))
     # The capsule's box: a part whose box misses it cannot be touched.
     xmin = min(x0, x1) - r
     xmax = max(x0, x1) + r

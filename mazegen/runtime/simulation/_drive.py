@@ -6,13 +6,16 @@ the kernels read (the floors' parts, MazeGen's paths and optimal times, the robo
 controller's parameters and lidar), floors MazeGen finds no path on marked ``NO_PATH`` and never
 driven. :func:`drive` then runs every episode to its end (the compiled loop of a bundled
 controller, a step between calls of a user's policy otherwise; the fields of a map-reading
-controller built a chunk of floors at a time) and returns what came of them.
+controller built a chunk of floors at a time) and returns what came of them. :func:`drive_many`
+drives many requests (floors of different arenas, tasks, robots and controller parameters) in one
+batch, each episode exactly as its request alone gives it.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -20,17 +23,38 @@ import numpy as np
 from mazegen.controllers import FIELDS
 from mazegen.errors import MazeError
 from mazegen.runtime.engine import Population
-from mazegen.runtime.simulation._choice import choose
+from mazegen.runtime.simulation._choice import Choice, choose
 from mazegen.runtime.simulation._episodes import NO_PATH, Episodes
-from mazegen.runtime.simulation._fields import floor_fields
+from mazegen.runtime.simulation._fields import floor_fields, joined_fields
 from mazegen.runtime.simulation._lidar import beam_angles
 from mazegen.runtime.simulation._loop import run_bundled
 from mazegen.runtime.simulation._paths import floor_paths
 from mazegen.runtime.simulation._policy import run_policy
-from mazegen.runtime.simulation._state import DriveState, Robots, Setup, robot_limits
+from mazegen.runtime.simulation._state import DriveState, FloorGroup, Robots, Setup, robot_limits
 from mazegen.runtime.simulation._step import begin_all
 from mazegen.runtime.simulation._world import world_of
 from mazegen.spec import ControllerSpec, Robot
+
+
+@dataclass(frozen=True)
+class DriveRequest:
+    """Floors to drive and what drives them: one part of a batch of :func:`drive_many`.
+
+    Attributes:
+        population: The floors (one arena, task and element library).
+        robot: The robot's limits, lidar and timeouts (:func:`mazegen.spec.robot_for`).
+        controller: A bundled controller's name, a spec's :class:`ControllerSpec`, a dotted path
+            ``package.module:name`` or entry point name of a user's policy, or the policy itself.
+        indices: Which individuals to drive, in this order (default: every valid one).
+        starts: ``float64[M, 3]`` start pose ``(x, y, theta)`` per driven floor; default the arena's
+            start, heading toward the goal.
+    """
+
+    population: Population
+    robot: Robot
+    controller: str | ControllerSpec | Callable[[Any], Any]
+    indices: np.ndarray | None = None
+    starts: np.ndarray | None = None
 
 
 def drive(
@@ -44,26 +68,77 @@ def drive(
 ) -> Episodes:
     """Drive ``controller`` over the floors ``indices`` of ``population`` (default: every valid one).
 
-    Args:
-        population: The floors.
-        robot: The robot's limits, lidar and timeouts (:func:`mazegen.spec.robot_for`).
-        controller: A bundled controller's name, a spec's :class:`ControllerSpec`, a dotted path
-            ``package.module:name`` or entry point name of a user's policy, or the policy itself.
-        indices: Which individuals to drive, in this order.
-        starts: ``float64[M, 3]`` start pose ``(x, y, theta)`` per driven floor; default the arena's
-            start, heading toward the goal.
-        record: Keep every pose (:attr:`Episodes.trajectory`).
-
+    The arguments are :class:`DriveRequest`'s; ``record`` keeps every pose (:attr:`Episodes.trajectory`).
     Nothing is drawn at random: the same floors, robot, controller and starts give the same
     episodes (perturbed starts are the caller's, drawn from its own seeded generator).
 
     Raises:
         MazeError: an unknown controller or parameter, or a user's policy that fails.
     """
-    state = set_up(population, robot, controller, indices, starts, record)
-    if len(state.rows):  # (no floors: nothing to compile)
-        _run_to_the_end(state)
-    return state.episodes()
+    return drive_many([DriveRequest(population, robot, controller, indices, starts)], record=record)[0]
+
+
+def drive_many(requests: Sequence[DriveRequest], *, record: bool = False) -> list[Episodes]:
+    """Drive every request's floors, each with its own arena, task, robot and controller parameters,
+    in as few batches as the controllers allow; one :class:`Episodes` per request, in order.
+
+    Requests of one bundled controller whose robots carry the same lidar beams drive in one batch
+    (its episodes spread over every thread); a user's policy drives each request on its own, so that
+    it sees one robot's limits at a time. Each episode is exactly what driving its request alone
+    gives: no episode reads another's floor, robot or parameters.
+    """
+    planned = [_plan(request) for request in requests]
+    found: list[Episodes | None] = [None] * len(planned)
+    for batch in _batches(planned):
+        state = _joined([planned[k] for k in batch], record)
+        if len(state.rows):  # (no floors: nothing to compile)
+            _run_to_the_end(state)
+        episodes, at = state.episodes(), 0
+        for k in batch:
+            m = len(planned[k].group.rows)
+            found[k] = _own(episodes, at, at + m, planned[k], record)
+            at += m
+    return [episodes for episodes in found if episodes is not None]
+
+
+@dataclass(frozen=True)
+class _Plan:
+    """One request made ready: its floors, resolved controller, set-up and start poses."""
+
+    group: FloorGroup
+    choice: Choice
+    setup: Setup
+    optimal: np.ndarray
+    poses: np.ndarray
+
+
+def _batches(planned: list[_Plan]) -> list[list[int]]:
+    """The requests that drive together: one bundled controller and one set of lidar beams."""
+    batches: dict[Any, list[int]] = {}
+    for k, plan in enumerate(planned):
+        choice = plan.choice
+        key = k if choice.policy is not None else (choice.code, plan.setup.angles.tobytes())
+        batches.setdefault(key, []).append(k)
+    return list(batches.values())
+
+
+def _own(episodes: Episodes, a: int, b: int, plan: _Plan, record: bool) -> Episodes:
+    """Episodes ``a`` to ``b - 1`` of a batch: one request's, as driving it alone gives them."""
+    trajectory = None
+    if record and episodes.trajectory is not None:
+        trajectory = episodes.trajectory[a:b, : int(plan.setup.max_steps.max(initial=0)) + 1]
+    return Episodes(
+        controller=plan.choice.name,
+        outcome=episodes.outcome[a:b],
+        time=episodes.time[a:b],
+        distance=episodes.distance[a:b],
+        clearance=episodes.clearance[a:b],
+        optimal_time=episodes.optimal_time[a:b],
+        steps=episodes.steps[a:b],
+        collision=episodes.collision[a:b],
+        stuck=episodes.stuck[a:b],
+        trajectory=trajectory,
+    )
 
 
 def _run_to_the_end(state: DriveState) -> None:
@@ -77,7 +152,7 @@ def _run_to_the_end(state: DriveState) -> None:
         run_bundled(state, _NO_FIELDS)
 
 
-_NO_FIELDS = (np.full((1, 1, 1), np.inf, np.float32), np.zeros((1, 1, 1), np.float32), np.zeros(5))
+_NO_FIELDS = (np.full((1, 1, 1), np.inf, np.float32), np.zeros((1, 1, 1), np.float32), np.zeros((1, 5)))
 """The fields of controllers that read none: one 1×1 dummy shared by every floor."""
 
 
@@ -90,7 +165,7 @@ def _run_with_fields(state: DriveState) -> None:
     """Drive chunk after chunk of floors, each with the fields of its floors."""
     for a in range(0, len(state.rows), FIELD_CHUNK):
         part = state.part(a, min(a + FIELD_CHUNK, len(state.rows)))
-        run_bundled(part, floor_fields(state.population, state.robot, part.rows))
+        run_bundled(part, joined_fields([floor_fields(g.population, g.robot, g.rows) for g in part.groups]))
 
 
 def set_up(
@@ -103,34 +178,50 @@ def set_up(
 ) -> DriveState:
     """The drive of ``controller`` over floors ``indices`` of ``population``, its robots at their
     starts; the arguments are :func:`mazegen.runtime.simulation.drive`'s."""
+    return _joined([_plan(DriveRequest(population, robot, controller, indices, starts))], record)
+
+
+def _plan(request: DriveRequest) -> _Plan:
+    population, robot = request.population, request.robot
     arena = population.arena
-    choice = choose(controller, robot, arena)
+    choice = choose(request.controller, robot, arena)
+    indices = request.indices
     rows = np.flatnonzero(population.valid) if indices is None else np.asarray(indices, np.int64).reshape(-1)
     m = len(rows)
     if m and (rows.min() < 0 or rows.max() >= population.size):
         raise MazeError(f"indices must lie in [0, {population.size}), got {rows.min()}..{rows.max()}")
-    poses = _starts(population, m, starts)
-    world = world_of(population, rows)
+    poses = _starts(population, m, request.starts)
     paths = floor_paths(population, rows, margin=choice.margin)
     optimal = paths.length / robot.max_speed
     max_steps = np.where(
         np.isnan(optimal), 0, np.ceil(robot.timeout * np.nan_to_num(optimal) / robot.step - 1e-9)
     )
-    robots = Robots.new(m, int(max_steps.max(initial=0)) if record else None)
-    robots.outcome[np.isnan(optimal)] = NO_PATH
     setup = Setup(
-        robot_limits(robot, arena),
-        np.array(arena.goal, np.float64),
-        world,
+        np.tile(robot_limits(robot, arena), (m, 1)),
+        np.tile(np.array(arena.goal, np.float64), (m, 1)),
+        world_of(population, rows),
         paths,
+        np.tile(choice.params, (m, 1)),
         beam_angles(robot.beams, robot.fov) if choice.lidar else np.zeros(0),
-        choice.reach,
+        np.full(m, choice.reach),
         max_steps.astype(np.int32),
-        max(1, math.ceil(robot.stuck / robot.step - 1e-9)),
+        np.full(m, max(1, math.ceil(robot.stuck / robot.step - 1e-9)), np.int64),
     )
+    return _Plan(FloorGroup(population, rows, robot), choice, setup, optimal, poses)
+
+
+def _joined(planned: list[_Plan], record: bool) -> DriveState:
+    """One drive of the planned requests' floors, one after another, its robots at their starts."""
+    setup = planned[0].setup if len(planned) == 1 else Setup.joined([plan.setup for plan in planned])
+    optimal = np.concatenate([plan.optimal for plan in planned])
+    m = len(optimal)
+    robots = Robots.new(m, int(setup.max_steps.max(initial=0)) if record else None)
+    robots.outcome[np.isnan(optimal)] = NO_PATH
     if m:
-        begin_all(poses, setup.limits, setup.goal, world.arrays, robots.state, robots.outcome)
-    return DriveState(population, rows, robot, choice, optimal, setup, robots, record)
+        poses = np.concatenate([plan.poses for plan in planned])
+        begin_all(poses, setup.limits, setup.goal, setup.world.arrays, robots.state, robots.outcome)
+    groups = tuple(plan.group for plan in planned)
+    return DriveState(groups, planned[0].choice, optimal, setup, robots, record)
 
 
 def _starts(population: Population, m: int, starts: np.ndarray | None) -> np.ndarray:

@@ -27,6 +27,7 @@ from numba import njit
 
 from mazegen.runtime.geometry import cspace, grid_args, grid_of, is_set, raster_arrays
 from mazegen.runtime.navigation import kernel_args
+from mazegen.runtime.simulation._world import stacked
 from mazegen.runtime.threads import in_blocks
 
 if TYPE_CHECKING:
@@ -64,6 +65,22 @@ def floor_fields(
         extent = np.array([arena.width, arena.height])
         in_blocks(_fields_all, m, shapes, ids, n_el, params, indices, grid_args(grid), extent, nav, clear)
     return nav, clear, np.array([0.0, 0.0, grid.cell, grid.rows, grid.cols])
+
+
+def joined_fields(
+    fields: list[tuple[np.ndarray, np.ndarray, np.ndarray]],
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The fields of several :func:`floor_fields` calls as one: ``(nav, clear, grid float64[M, 5])``,
+    every floor's arrays padded to the largest grid with what the controllers read off a grid (``inf``
+    and 0), so that a floor's lookups give what its own fields give."""
+    if len(fields) == 1:
+        nav, clear, grid = fields[0]
+        return nav, clear, np.tile(grid, (nav.shape[0], 1))
+    return (
+        stacked([nav for nav, _, _ in fields], np.inf),
+        stacked([clear for _, clear, _ in fields], 0.0),
+        np.concatenate([np.tile(grid, (nav.shape[0], 1)) for nav, _, grid in fields]),
+    )
 
 
 @njit(cache=True, nogil=True)

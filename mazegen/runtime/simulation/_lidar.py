@@ -77,7 +77,7 @@ def scan(x, y, theta, angles, reach, floor, world, near, out):  # pragma: no cov
     for k in range(angles.shape[0]):
         dx = math.cos(theta + angles[k])
         dy = math.sin(theta + angles[k])
-        best = min(_wall_range(x, dx, size[0], reach), _wall_range(y, dy, size[1], reach))
+        best = min(_wall_range(x, dx, size[floor, 0], reach), _wall_range(y, dy, size[floor, 1], reach))
         best = max(best, 0.0)
         for i in range(n_near):
             q = near[i]

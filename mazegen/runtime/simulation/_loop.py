@@ -31,7 +31,7 @@ def run_bundled(drive: DriveState, fields: tuple) -> None:
     in_blocks(
         run_all,
         len(robots.outcome),
-        *controller_slots(drive.choice.code, drive.choice.params),
+        *controller_slots(drive.choice.code, setup.params),
         setup.world.arrays,
         setup.episode,
         setup.paths.corners,
@@ -46,27 +46,27 @@ def run_bundled(drive: DriveState, fields: tuple) -> None:
 
 
 def controller_slots(code: int, params: np.ndarray) -> tuple[np.ndarray | None, ...]:
-    """:func:`command`'s first arguments for controller ``code``: its parameters in its slot, None in
-    the others. numba compiles the kernels once per combination of array and None, leaving out the
-    branches of the None ones: a drive compiles only the controller it drives."""
+    """:func:`command`'s first arguments for controller ``code``: its parameters (a row per robot) in
+    its slot, None in the others. numba compiles the kernels once per combination of array and None,
+    leaving out the branches of the None ones: a drive compiles only the controller it drives."""
     return tuple(params if slot == code else None for slot in range(len(BUNDLED)))
 
 
 @njit(cache=True)
 def command(
-    straight, purepursuit, dwa, vfh, limits, pose, goal, nav, clear, grid, path, ranges, angles, out
+    straight, purepursuit, dwa, vfh, m, limits, pose, goal, nav, clear, grid, path, ranges, angles, out
 ):  # pragma: no cover
-    """The command of the controller whose parameters are given (the others None) for one robot,
-    written to ``out``: THE dispatch point, one slot per bundled controller in the order of their
-    codes (a test checks it against the rows)."""
+    """The command for robot ``m`` of the controller whose parameters (a row per robot) are given,
+    the others None, written to ``out``: THE dispatch point, one slot per bundled controller in the
+    order of their codes (a test checks it against the rows)."""
     if straight is not None:
-        straight_command(straight, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        straight_command(straight[m], limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     elif purepursuit is not None:
-        purepursuit_command(purepursuit, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        purepursuit_command(purepursuit[m], limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     elif dwa is not None:
-        dwa_command(dwa, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        dwa_command(dwa[m], limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     elif vfh is not None:
-        vfh_command(vfh, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        vfh_command(vfh[m], limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     else:
         out[0] = 0.0
         out[1] = 0.0
@@ -101,8 +101,10 @@ def run_all(
     controller whose parameters are given (:func:`controller_slots`).
 
     ``episode`` and ``robots`` are as :func:`mazegen.runtime.simulation._step.advance` takes them;
-    ``fields`` is ``(nav, clear, grid)``: per-floor fields, or one dummy shared by all floors;
-    ``trajectory`` has no rows unless poses are recorded.
+    ``fields`` is ``(nav, clear, grid)``: per-floor fields on grids of their own (``grid[f]`` = ``(x0,
+    y0, cell, rows, cols)``; the arrays padded to the largest grid with what the controllers read
+    off a grid, ``inf`` and 0), or one dummy shared by all floors;
+    ``reach`` each robot's lidar range; ``trajectory`` has no rows unless poses are recorded.
     """
     nav, clear, grid = fields
     limits, goal = episode[0], episode[1]
@@ -115,17 +117,18 @@ def run_all(
     out = np.zeros(2)
     for m in range(first, last):
         f = m if nav.shape[0] > 1 else 0
-        floor_nav, floor_clear = nav[f], clear[f]
+        floor_nav, floor_clear, floor_grid = nav[f], clear[f], grid[f]
+        robot_limits, robot_goal = limits[m], goal[m]
         path = paths[m, : path_count[m]]
         _record(trajectory, m, np.int64(0), state)
         while outcome[m] == ACTIVE:
             for k in range(5):
                 pose[k] = state[m, X + k]
             if angles.shape[0]:
-                scan(pose[0], pose[1], pose[2], angles, reach, m, world, near, ranges)
+                scan(pose[0], pose[1], pose[2], angles, reach[m], m, world, near, ranges)
             command(
-                straight, purepursuit, dwa, vfh, limits, pose, goal, floor_nav, floor_clear, grid, path,
-                ranges, angles, out,
+                straight, purepursuit, dwa, vfh, m, robot_limits, pose, robot_goal, floor_nav, floor_clear,
+                floor_grid, path, ranges, angles, out,
             )  # fmt: skip
             advance(m, out[0], out[1], world, episode, robots)
             _record(trajectory, m, steps[m], state)

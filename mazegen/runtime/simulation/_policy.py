@@ -19,9 +19,10 @@ from typing import Any
 import numpy as np
 from numba import njit
 
+from mazegen.controllers import LIMITS
 from mazegen.errors import MazeError
 from mazegen.runtime.simulation._lidar import scan
-from mazegen.runtime.simulation._state import ACTIVE, THETA, DriveState, V, W, X, Y
+from mazegen.runtime.simulation._state import ACTIVE, THETA, DriveState, Setup, V, W, X, Y
 from mazegen.runtime.simulation._step import record, step
 from mazegen.runtime.threads import in_blocks
 
@@ -109,8 +110,13 @@ def observe(drive: DriveState, active: np.ndarray, driven: int) -> Observations:
     in_blocks(_observe_kernel, n, active, state, setup.goal, *lidar, ranges, goal)
     velocity = state[active][:, [V, W]]
     return Observations(
-        ranges, _read_only(setup.angles), goal, velocity, driven, drive.rows[active], _read_only(setup.limits)
+        ranges, _read_only(setup.angles), goal, velocity, driven, drive.rows[active], _robot_limits(setup)
     )
+
+
+def _robot_limits(setup: Setup) -> np.ndarray:
+    """The limits of the robot a policy drives (a policy drives one request at a time, one robot)."""
+    return _read_only(setup.limits[0] if len(setup.limits) else np.zeros(len(LIMITS)))
 
 
 def _read_only(array: np.ndarray) -> np.ndarray:
@@ -130,8 +136,8 @@ def _observe_kernel(
         m = active[j]
         x, y, theta = state[m, X], state[m, Y], state[m, THETA]
         if angles.shape[0]:
-            scan(x, y, theta, angles, reach, m, world, near, ranges[j])
-        dx, dy = goal[0] - x, goal[1] - y
+            scan(x, y, theta, angles, reach[m], m, world, near, ranges[j])
+        dx, dy = goal[m, 0] - x, goal[m, 1] - y
         bearing = math.atan2(dy, dx) - theta
         to_goal[j, 0] = math.hypot(dx, dy)
         to_goal[j, 1] = math.cos(bearing)

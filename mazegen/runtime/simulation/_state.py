@@ -18,7 +18,7 @@ from mazegen.runtime.engine import Population
 from mazegen.runtime.simulation._choice import Choice
 from mazegen.runtime.simulation._episodes import COLLISION, NO_PATH, Episodes
 from mazegen.runtime.simulation._paths import FloorPaths
-from mazegen.runtime.simulation._world import World
+from mazegen.runtime.simulation._world import World, stacked
 from mazegen.spec import Arena, Robot
 
 ACTIVE = -1
@@ -47,17 +47,20 @@ def robot_limits(robot: Robot, arena: Arena) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Setup:
-    """What every episode of one drive reads: the robot's limits (:func:`robot_limits`), the goal,
-    the floors' parts and paths, the lidar's beam angles and range, the step limits."""
+    """What the episodes of one drive read, a row or value per driven floor (floors of different
+    arenas, tasks and robots drive in one batch): the robot's limits (:func:`robot_limits`), the goal,
+    the floors' parts and paths, the controller's parameters, the lidar's beam angles (one set for
+    the batch) and range, the step limits."""
 
     limits: np.ndarray
     goal: np.ndarray
     world: World
     paths: FloorPaths
+    params: np.ndarray
     angles: np.ndarray
-    reach: float
+    reach: np.ndarray
     max_steps: np.ndarray
-    stuck_steps: int
+    stuck_steps: np.ndarray
 
     @property
     def episode(self) -> tuple:
@@ -66,16 +69,38 @@ class Setup:
 
     def part(self, a: int, b: int) -> Setup:
         """What the episodes of driven floors ``a`` to ``b - 1`` read."""
-        world, paths = self.world, self.paths
+        paths = self.paths
         return Setup(
-            self.limits,
-            self.goal,
-            World(world.first[a : b + 1], world.vertices, world.count, world.box, world.size),
+            self.limits[a:b],
+            self.goal[a:b],
+            self.world.part(a, b),
             FloorPaths(paths.length[a:b], paths.corners[a:b], paths.count[a:b]),
+            self.params[a:b],
             self.angles,
-            self.reach,
+            self.reach[a:b],
             self.max_steps[a:b],
-            self.stuck_steps,
+            self.stuck_steps[a:b],
+        )
+
+    @classmethod
+    def joined(cls, setups: list[Setup]) -> Setup:
+        """The set-ups of ``setups``' floors one after another (paths padded to the most corners);
+        they share one set of lidar beams."""
+        corners = stacked([s.paths.corners for s in setups], 0.0)
+        return cls(
+            np.concatenate([s.limits for s in setups]),
+            np.concatenate([s.goal for s in setups]),
+            World.joined([s.world for s in setups]),
+            FloorPaths(
+                np.concatenate([s.paths.length for s in setups]),
+                corners,
+                np.concatenate([s.paths.count for s in setups]),
+            ),
+            np.concatenate([s.params for s in setups]),
+            setups[0].angles,
+            np.concatenate([s.reach for s in setups]),
+            np.concatenate([s.max_steps for s in setups]),
+            np.concatenate([s.stuck_steps for s in setups]),
         )
 
 
@@ -118,25 +143,43 @@ class Robots:
 
 
 @dataclass(frozen=True)
-class DriveState:
-    """One drive: its floors (``rows`` of ``population``), robot and controller, what its episodes
-    read and what they have written so far."""
+class FloorGroup:
+    """Floors ``rows`` of ``population``, driven by ``robot``: one part of a drive's batch."""
 
     population: Population
     rows: np.ndarray
     robot: Robot
+
+
+@dataclass(frozen=True)
+class DriveState:
+    """One drive: its floors (``groups``, one after another; ``rows`` their population indices), its
+    controller, what its episodes read and what they have written so far."""
+
+    groups: tuple[FloorGroup, ...]
     choice: Choice
     optimal: np.ndarray
     setup: Setup
     robots: Robots
     record: bool
 
+    @property
+    def rows(self) -> np.ndarray:
+        """``int64[M]``: each driven floor's index in its group's population."""
+        if len(self.groups) == 1:
+            return self.groups[0].rows
+        return np.concatenate([group.rows for group in self.groups]) if self.groups else np.zeros(0, np.int64)
+
     def part(self, a: int, b: int) -> DriveState:
         """The drive of floors ``a`` to ``b - 1`` alone, sharing this one's arrays."""
+        groups, at = [], 0
+        for group in self.groups:
+            low, high = max(a - at, 0), min(b - at, len(group.rows))
+            if low < high:
+                groups.append(FloorGroup(group.population, group.rows[low:high], group.robot))
+            at += len(group.rows)
         return DriveState(
-            self.population,
-            self.rows[a:b],
-            self.robot,
+            tuple(groups),
             self.choice,
             self.optimal[a:b],
             self.setup.part(a, b),
@@ -155,7 +198,7 @@ class DriveState:
         return Episodes(
             controller=self.choice.name,
             outcome=outcome,
-            time=self.robots.steps * self.robot.step,
+            time=self.robots.steps * self.setup.limits[:, LIMITS.index("step")],
             distance=np.where(driven, state[:, DISTANCE], 0.0),
             clearance=np.where(driven, state[:, CLEARANCE], np.nan),
             optimal_time=self.optimal,

@@ -94,10 +94,11 @@ def _apply(first, last, active, actions, world, episode, robots):  # pragma: no 
 
 @njit(cache=True)
 def begin_all(starts, limits, goal, world, state, outcome):  # pragma: no cover - compiled
-    """Put every robot still to drive (outcome ``ACTIVE``) at its start."""
+    """Put every robot still to drive (outcome ``ACTIVE``) at its start; ``limits`` and ``goal``
+    are each robot's rows."""
     for m in range(starts.shape[0]):
         if outcome[m] == ACTIVE:
-            begin(m, starts[m, 0], starts[m, 1], starts[m, 2], limits, goal, world, state, outcome)
+            begin(m, starts[m, 0], starts[m, 1], starts[m, 2], limits[m], goal[m], world, state, outcome)
 
 
 @inner_kernel
@@ -127,11 +128,13 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring.
 
     ``world`` is the floors' parts (:class:`mazegen.runtime.simulation._world.World`'s arrays);
-    ``episode`` is ``(limits, goal, max_steps, stuck_steps)``: what every robot of a drive reads;
+    ``episode`` is ``(limits, goal, max_steps, stuck_steps)``, one row or value per robot: what the
+    robots of a drive read (floors of different arenas and robots drive in one batch);
     ``robots`` is ``(state, outcome, steps, progress, stuck)``: what they write. (The parts are not
     in ``episode``: numba's parallel loops take no tuple nested in a tuple.)
     """
-    limits, goal, max_steps, stuck_steps = episode
+    limits, goal = episode[0][m], episode[1][m]
+    max_steps, stuck_steps = episode[2], episode[3]
     state, outcome, steps, progress, stuck = robots
     dt = limits[STEP]
     r = limits[RADIUS]
@@ -172,6 +175,6 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
         progress[m] = steps[m]
     if steps[m] >= max_steps[m]:
         outcome[m] = TIMEOUT
-    elif steps[m] - progress[m] >= stuck_steps:
+    elif steps[m] - progress[m] >= stuck_steps[m]:
         outcome[m] = TIMEOUT
         stuck[m] = True

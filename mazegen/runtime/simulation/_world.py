@@ -6,7 +6,8 @@ from :func:`mazegen.runtime.geometry._elements.world_element`, the transform eve
 (and :func:`~mazegen.runtime.geometry._elements.world_vertices`) uses, so the simulator collides
 with exactly the shapes the metrics and drawings see. Each part
 carries its bounding box: the collision, distance and lidar kernels cull on it before any exact
-test. The arena's four walls are the lines ``x = 0``, ``x = width``, ``y = 0``, ``y = height``.
+test. The arena's four walls are the lines ``x = 0``, ``x = width``, ``y = 0``, ``y = height`` of
+each floor's own arena: floors of different arenas drive in one batch (:meth:`World.joined`).
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ class World:
         vertices: ``float64[P, V, 2]``: each part's vertices, counter-clockwise, padded past ``count``.
         count: ``int64[P]``: vertices of each part.
         box: ``float64[P, 4]``: each part's ``(xmin, ymin, xmax, ymax)``.
-        size: ``float64[2]``: the arena's width and height (its walls).
+        size: ``float64[M, 2]``: each floor's arena width and height (its walls).
     """
 
     first: np.ndarray
@@ -44,9 +45,39 @@ class World:
         """``(first, vertices, count, box, size)``: what the compiled kernels read."""
         return self.first, self.vertices, self.count, self.box, self.size
 
+    def part(self, a: int, b: int) -> World:
+        """The world of driven floors ``a`` to ``b - 1``, sharing this one's parts."""
+        return World(self.first[a : b + 1], self.vertices, self.count, self.box, self.size[a:b])
+
+    @classmethod
+    def joined(cls, worlds: list[World]) -> World:
+        """The floors of ``worlds`` one after another, as one world (parts padded to the most vertices)."""
+        spans = [slice(int(w.first[0]), int(w.first[-1])) for w in worlds]
+        offsets = np.cumsum([0] + [span.stop - span.start for span in spans])
+        first = [w.first[1:] - w.first[0] + at for w, at in zip(worlds, offsets)]
+        return cls(
+            np.concatenate([np.zeros(1, np.int64), *first]).astype(np.int64),
+            stacked([w.vertices[span] for w, span in zip(worlds, spans)], 0.0),
+            np.concatenate([w.count[span] for w, span in zip(worlds, spans)]),
+            np.concatenate([w.box[span] for w, span in zip(worlds, spans)]),
+            np.concatenate([w.size for w in worlds]),
+        )
+
     def parts(self, floor: int) -> list[np.ndarray]:
         """The parts of driven floor ``floor``, one ``float64[n, 2]`` array each (to test or draw)."""
         return [self.vertices[p, : self.count[p]] for p in range(self.first[floor], self.first[floor + 1])]
+
+
+def stacked(arrays: list[np.ndarray], fill: float) -> np.ndarray:
+    """``arrays`` one after another along their first axis, each padded with ``fill`` to the largest
+    of the others in every other axis (floors of different sizes in one batch)."""
+    shape = tuple(max(a.shape[k] for a in arrays) for k in range(1, arrays[0].ndim))
+    out = np.full((sum(len(a) for a in arrays), *shape), fill, arrays[0].dtype)
+    at = 0
+    for a in arrays:
+        out[(slice(at, at + len(a)),) + tuple(slice(0, n) for n in a.shape[1:])] = a
+        at += len(a)
+    return out
 
 
 def world_of(population: Population, indices: np.ndarray) -> World:
@@ -79,7 +110,8 @@ def world_of(population: Population, indices: np.ndarray) -> World:
             box,
         )
     arena = population.arena
-    return World(first, vertices, count, box, np.array([arena.width, arena.height], np.float64))
+    size = np.tile(np.array([arena.width, arena.height], np.float64), (len(rows), 1))
+    return World(first, vertices, count, box, size)
 
 
 @njit(cache=True, nogil=True)

@@ -22,7 +22,7 @@ def world(parts: list[np.ndarray], size: tuple[float, float] = SIZE) -> World:
         vertices[q, : len(part)] = part
     count = np.array([len(p) for p in parts], np.int64)
     boxes = np.array([[*p.min(axis=0), *p.max(axis=0)] for p in parts]).reshape(-1, 4)
-    return World(np.array([0, len(parts)], np.int64), vertices, count, boxes, np.array(size))
+    return World(np.array([0, len(parts)], np.int64), vertices, count, boxes, np.array([size], np.float64))
 
 
 def random_parts(rng: np.random.Generator, count: int, size: tuple[float, float] = SIZE) -> list[np.ndarray]:
