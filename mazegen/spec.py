@@ -279,6 +279,9 @@ class Robot:
         driven: Who is driven in an evolution: the best fraction of each generation among those
             the static terms keep (1 = every individual).
         controllers: The controllers the spec names, with their parameter overrides.
+        contact: What a touch does (:data:`CONTACT_MODES`): ``end`` the episode, a collision (MazeGen's
+            verdict, and a test's), or ``continue`` it as Gazebo does, the robot stopped short of the
+            obstacle and each touch counted.
     """
 
     max_speed: float
@@ -295,6 +298,7 @@ class Robot:
     lidar_range: float = 0.0
     driven: float = 0.1
     controllers: tuple[ControllerSpec, ...] = ()
+    contact: str = "end"
 
     def controller(self, name: str) -> ControllerSpec:
         """The spec's settings of controller ``name`` (none set: its defaults)."""
@@ -302,6 +306,10 @@ class Robot:
             if controller.name == name:
                 return controller
         return ControllerSpec(name)
+
+
+CONTACT_MODES = ("end", "continue")
+"""What a touch does to an episode (:attr:`Robot.contact`)."""
 
 
 def robot_for(arena: Arena, **changes: Any) -> Robot:
@@ -467,6 +475,8 @@ class Spec:
         for term in body["fitness"]:  # a spec without plug-ins reads as it did before they came
             if term["plugin"] is None:
                 del term["plugin"]
+        if body["robot"] is not None and body["robot"]["contact"] == "end":  # likewise before contacts
+            del body["robot"]["contact"]
         return json.dumps(body, indent=2, sort_keys=True, allow_nan=False) + "\n"
 
     @classmethod

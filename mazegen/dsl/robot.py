@@ -73,6 +73,7 @@ _LABELS = {
     "GoalToleranceSetting": "goal tolerance",
     "TimeoutSetting": "timeout factor",
     "StuckSetting": "stuck",
+    "ContactSetting": "contact",
     "BeamsSetting": "beams",
     "FovSetting": "fov",
     "LidarRangeSetting": "range",
@@ -246,6 +247,9 @@ def convert_robot(
     for kind, node in [*single.items(), *nested.items()]:
         if kind == "DriveProperty":
             changes["driven"] = 1.0 if node.all else _fraction(node)
+            continue
+        if kind == "ContactSetting":
+            changes["contact"] = node.mode
             continue
         setting = _SETTINGS[_LABELS[kind]]
         changes[setting.field] = _setting_value(node, setting)

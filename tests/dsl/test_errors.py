@@ -482,8 +482,14 @@ BAD_SPECS = [
         "robot: a typo in a limit",
         spec(tail="robot { sped 50 }\n"),
         "4:9",
-        "expected 'speed', 'min', 'turn', 'acceleration', 'step', 'goal', 'timeout', 'stuck', 'lidar', "
-        "'drive', 'controller' or '}', found 'sped'",
+        "expected 'speed', 'min', 'turn', 'acceleration', 'step', 'goal', 'timeout', 'stuck', 'contact', "
+        "'lidar', 'drive', 'controller' or '}', found 'sped'",
+    ),
+    (
+        "robot: what a touch does is end or continue",
+        spec(tail="robot { contact bounce }\n"),
+        "4:17",
+        "expected 'end' or 'continue', found 'bounce'",
     ),
     ("robot: a typo in a two-word limit", spec(tail="robot { min sped 5 }\n"), "4:13", "expected 'speed'"),
     (

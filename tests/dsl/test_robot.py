@@ -23,7 +23,7 @@ FULL = (
     + """
 robot {
     speed 60  min speed 5  turn rate 90  acceleration 1000  turn acceleration 180
-    step 0.05  goal tolerance 25  timeout factor 6  stuck 8
+    step 0.05  goal tolerance 25  timeout factor 6  stuck 8  contact continue
     lidar { beams 180  fov 270  range 300 }
     drive best 0.2
     controller purepursuit { lookahead 45  rotate_to_heading 30 }
@@ -46,6 +46,7 @@ def test_the_robot_block_sets_limits_in_arena_units_and_angles_in_radians(write_
     assert robot.max_turn == pytest.approx(math.pi / 2)
     assert robot.turn_accel == pytest.approx(math.pi)
     assert (robot.step, robot.goal_tolerance, robot.timeout, robot.stuck) == (0.05, 25, 6, 8)
+    assert robot.contact == "continue"
     assert (robot.beams, robot.lidar_range, robot.driven) == (180, 300, 0.2)
     assert robot.fov == pytest.approx(1.5 * math.pi)
 

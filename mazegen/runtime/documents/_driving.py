@@ -50,6 +50,7 @@ class Drive:
         stuck: A timeout that ended early for lack of progress.
         collision: The robot's centre at first contact, or None.
         trajectory: ``[x, y, heading]`` at every step, heading in degrees.
+        contacts: Steps that touched an obstacle, for a robot whose contacts continue (0 otherwise).
     """
 
     file: str
@@ -63,6 +64,7 @@ class Drive:
     stuck: bool
     collision: tuple[float, float] | None
     trajectory: tuple[tuple[float, float, float], ...]
+    contacts: int = 0
 
     @property
     def arrived(self) -> bool:
@@ -73,7 +75,9 @@ class Drive:
         return self.outcome != OUTCOMES[NO_PATH]
 
     def section(self) -> dict[str, Any]:
-        """The controller's entry of a document's ``drive`` section."""
+        """The controller's entry of a document's ``drive`` section (``contacts`` only when a robot whose
+        contacts continue touched something)."""
+        touched = {"contacts": self.contacts} if self.contacts and self.outcome != "collision" else {}
         return {
             "outcome": self.outcome,
             "time": self.time,
@@ -83,6 +87,7 @@ class Drive:
             "score": self.score,
             "stuck": self.stuck,
             "collision": None if self.collision is None else list(self.collision),
+            **touched,
             "trajectory": [list(pose) for pose in self.trajectory],
         }
 
@@ -103,6 +108,7 @@ class Drive:
         return (
             f"{self.outcome}, {self.time:.1f} s, {self.distance:.1f} {unit} driven, "
             f"closest {self.clearance or 0.0:.1f} {unit}, score {self.score:.3g}"
+            + (f", {self.contacts} steps touching" if self.contacts and self.outcome != "collision" else "")
         )
 
 
@@ -134,6 +140,7 @@ def episode_drive(file: str, episodes: Episodes, index: int, scores: np.ndarray)
         stuck=bool(episodes.stuck[index]),
         collision=None if np.isnan(collision).any() else (_round(collision[0]), _round(collision[1])),
         trajectory=poses,
+        contacts=0 if episodes.contacts is None else int(episodes.contacts[index]),
     )
 
 

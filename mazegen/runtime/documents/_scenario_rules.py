@@ -186,6 +186,7 @@ DOCUMENT = Fields(
                     "score": Number(low=0, high=0.5),
                     "stuck": Flag(),
                     "collision": Items(COORDINATE, least=2, most=2, null=True),
+                    "contacts": Number(low=1, integer=True),
                     "trajectory": Items(Items(COORDINATE, least=3, most=3), most=MAX_POSES),
                 }
             )

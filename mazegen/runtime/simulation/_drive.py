@@ -138,6 +138,7 @@ def _own(episodes: Episodes, a: int, b: int, plan: _Plan, record: bool) -> Episo
         collision=episodes.collision[a:b],
         stuck=episodes.stuck[a:b],
         trajectory=trajectory,
+        contacts=None if episodes.contacts is None else episodes.contacts[a:b],
     )
 
 
@@ -206,6 +207,7 @@ def _plan(request: DriveRequest) -> _Plan:
         np.full(m, choice.reach),
         max_steps.astype(np.int32),
         np.full(m, max(1, math.ceil(robot.stuck / robot.step - 1e-9)), np.int64),
+        np.full(m, robot.contact == "continue"),
     )
     return _Plan(FloorGroup(population, rows, robot), choice, setup, optimal, poses)
 

@@ -27,8 +27,10 @@ class Episodes:
         optimal_time: ``float64[N]`` the optimal path's length over the robot's top speed (BARN's
             OT), NaN where no path exists.
         steps: ``int32[N]`` simulation steps taken.
-        collision: ``float64[N, 2]`` where the robot's centre was at first contact, NaN otherwise.
+        collision: ``float64[N, 2]`` where the robot's centre was at its first contact, NaN without one.
         stuck: ``bool[N]`` timeouts that ended early for lack of progress.
+        contacts: ``int32[N]`` steps that touched an obstacle or the arena wall: 1 for a collision, any
+            number for a robot whose contacts continue (``collision`` then holds the first's).
         trajectory: ``float64[N, T, 3]`` poses ``(x, y, theta)`` at every step up to ``steps``
             (NaN after), when recorded; else None.
     """
@@ -43,6 +45,7 @@ class Episodes:
     collision: np.ndarray
     stuck: np.ndarray
     trajectory: np.ndarray | None = None
+    contacts: np.ndarray | None = None
 
     @property
     def size(self) -> int:

@@ -50,7 +50,7 @@ class Setup:
     """What the episodes of one drive read, a row or value per driven floor (floors of different
     arenas, tasks and robots drive in one batch): the robot's limits (:func:`robot_limits`), the goal,
     the floors' parts and paths, the controller's parameters, the lidar's beam angles (one set for
-    the batch) and range, the step limits."""
+    the batch) and range, the step limits, whether its contacts continue."""
 
     limits: np.ndarray
     goal: np.ndarray
@@ -61,11 +61,13 @@ class Setup:
     reach: np.ndarray
     max_steps: np.ndarray
     stuck_steps: np.ndarray
+    carry_on: np.ndarray
 
     @property
     def episode(self) -> tuple:
-        """``(limits, goal, max_steps, stuck_steps)``: what the step kernel reads besides the parts."""
-        return self.limits, self.goal, self.max_steps, self.stuck_steps
+        """``(limits, goal, max_steps, stuck_steps, carry_on)``: what the step kernel reads besides the
+        parts."""
+        return self.limits, self.goal, self.max_steps, self.stuck_steps, self.carry_on
 
     def part(self, a: int, b: int) -> Setup:
         """What the episodes of driven floors ``a`` to ``b - 1`` read."""
@@ -80,6 +82,7 @@ class Setup:
             self.reach[a:b],
             self.max_steps[a:b],
             self.stuck_steps[a:b],
+            self.carry_on[a:b],
         )
 
     @classmethod
@@ -101,6 +104,7 @@ class Setup:
             np.concatenate([s.reach for s in setups]),
             np.concatenate([s.max_steps for s in setups]),
             np.concatenate([s.stuck_steps for s in setups]),
+            np.concatenate([s.carry_on for s in setups]),
         )
 
 
@@ -108,13 +112,15 @@ class Setup:
 class Robots:
     """What the episodes write, one row per driven floor: the state (columns :data:`X` … :data:`CY`),
     the outcome (:data:`ACTIVE` while driving), the steps driven, the step of the last progress
-    toward the goal, whether the episode ended stuck, and the poses (no rows unless recorded)."""
+    toward the goal, whether the episode ended stuck, the steps that touched an obstacle, and the
+    poses (no rows unless recorded)."""
 
     state: np.ndarray
     outcome: np.ndarray
     steps: np.ndarray
     progress: np.ndarray
     stuck: np.ndarray
+    contacts: np.ndarray
     trajectory: np.ndarray
 
     @classmethod
@@ -127,19 +133,20 @@ class Robots:
             np.zeros(m, np.int32),
             np.zeros(m, np.int32),
             np.zeros(m, np.bool_),
+            np.zeros(m, np.int32),
             np.full((rows, columns, 3), np.nan),
         )
 
     @property
-    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """``(state, outcome, steps, progress, stuck)``: what the step kernel writes."""
-        return self.state, self.outcome, self.steps, self.progress, self.stuck
+    def arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``(state, outcome, steps, progress, stuck, contacts)``: what the step kernel writes."""
+        return self.state, self.outcome, self.steps, self.progress, self.stuck, self.contacts
 
     def part(self, a: int, b: int) -> Robots:
         """Views of robots ``a`` to ``b - 1``."""
-        state, outcome, steps, progress, stuck = (array[a:b] for array in self.arrays)
+        state, outcome, steps, progress, stuck, contacts = (array[a:b] for array in self.arrays)
         trajectory = self.trajectory[a:b] if len(self.trajectory) else self.trajectory
-        return Robots(state, outcome, steps, progress, stuck, trajectory)
+        return Robots(state, outcome, steps, progress, stuck, contacts, trajectory)
 
 
 @dataclass(frozen=True)
@@ -203,7 +210,10 @@ class DriveState:
             clearance=np.where(driven, state[:, CLEARANCE], np.nan),
             optimal_time=self.optimal,
             steps=self.robots.steps,
-            collision=np.where((outcome == COLLISION)[:, None], state[:, [CX, CY]], np.nan),
+            collision=np.where(
+                ((outcome == COLLISION) | (self.robots.contacts > 0))[:, None], state[:, [CX, CY]], np.nan
+            ),
             stuck=self.robots.stuck,
+            contacts=self.robots.contacts,
             trajectory=self.robots.trajectory if self.record else None,
         )

@@ -13,9 +13,11 @@ count, the step of its last progress toward the goal and whether it ended stuck.
    either way.
 4. The episode ends: **arrived** when the segment comes within ``goal_tolerance`` of the goal
    (before any contact); **collision** at the first contact, the robot left at the start of the
-   step's segment and the contact centre kept; **timeout** after ``max_steps`` steps or, stuck,
-   after ``stuck_steps`` steps without a new best distance to the goal (better by at least
-   :data:`PROGRESS` of a step at top speed).
+   step's segment and the contact centre kept, unless the robot's contacts continue (Gazebo's
+   physics, where a touch ends nothing): then the robot stays at the start of the segment, its
+   speed 0, its turn made, the touch counted and the first contact's centre kept, and drives on;
+   **timeout** after ``max_steps`` steps or, stuck, after ``stuck_steps`` steps without a new best
+   distance to the goal (better by at least :data:`PROGRESS` of a step at top speed).
 
 The clearance (closest approach of the robot's edge) is taken at every pose, computed exactly
 whenever the lower bound cannot rule out a new minimum.
@@ -128,14 +130,15 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring.
 
     ``world`` is the floors' parts (:class:`mazegen.runtime.simulation._world.World`'s arrays);
-    ``episode`` is ``(limits, goal, max_steps, stuck_steps)``, one row or value per robot: what the
-    robots of a drive read (floors of different arenas and robots drive in one batch);
-    ``robots`` is ``(state, outcome, steps, progress, stuck)``: what they write. (The parts are not
+    ``episode`` is ``(limits, goal, max_steps, stuck_steps, carry_on)``, one row or value per robot:
+    what the robots of a drive read (floors of different arenas and robots drive in one batch;
+    ``carry_on`` whether its contacts continue);
+    ``robots`` is ``(state, outcome, steps, progress, stuck, contacts)``: what they write. (The parts are not
     in ``episode``: numba's parallel loops take no tuple nested in a tuple.)
     """
     limits, goal = episode[0][m], episode[1][m]
-    max_steps, stuck_steps = episode[2], episode[3]
-    state, outcome, steps, progress, stuck = robots
+    max_steps, stuck_steps, carry_on = episode[2], episode[3], episode[4]
+    state, outcome, steps, progress, stuck, contacts = robots
     dt = limits[STEP]
     r = limits[RADIUS]
     v = _window(command_v, state[m, V], limits[ACCEL] * dt, limits[MIN_SPEED], limits[MAX_SPEED])
@@ -151,10 +154,17 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     steps[m] += 1
     state[m, V], state[m, W] = v, w
     if hit <= 1.0 and hit < reach:
-        outcome[m] = COLLISION
-        state[m, CX], state[m, CY] = x0 + hit * dx, y0 + hit * dy
-        state[m, DISTANCE] += hit * length
+        if contacts[m] == 0:
+            state[m, CX], state[m, CY] = x0 + hit * dx, y0 + hit * dy
+        contacts[m] += 1
         state[m, CLEARANCE] = 0.0
+        if not carry_on[m]:
+            outcome[m] = COLLISION
+            state[m, DISTANCE] += hit * length
+            return
+        state[m, V] = 0.0  # stopped short of the obstacle, as a body pressed against it is
+        state[m, THETA] = theta + w * dt
+        _timeouts(m, steps, progress, stuck, outcome, max_steps, stuck_steps)
         return
     state[m, X], state[m, Y], state[m, THETA] = x1, y1, theta + w * dt
     state[m, DISTANCE] += length
@@ -173,6 +183,12 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     if to_goal < state[m, BEST] - PROGRESS * limits[MAX_SPEED] * dt:
         state[m, BEST] = to_goal
         progress[m] = steps[m]
+    _timeouts(m, steps, progress, stuck, outcome, max_steps, stuck_steps)
+
+
+@njit(cache=True, inline="always")
+def _timeouts(m, steps, progress, stuck, outcome, max_steps, stuck_steps):  # pragma: no cover - compiled
+    """End robot ``m``'s episode, timed out, after its last step or too long without progress."""
     if steps[m] >= max_steps[m]:
         outcome[m] = TIMEOUT
     elif steps[m] - progress[m] >= stuck_steps[m]:

@@ -75,7 +75,8 @@ def stacked(arrays: list[np.ndarray], fill: float) -> np.ndarray:
     out = np.full((sum(len(a) for a in arrays), *shape), fill, arrays[0].dtype)
     at = 0
     for a in arrays:
-        out[(slice(at, at + len(a)),) + tuple(slice(0, n) for n in a.shape[1:])] = a
+        where = (slice(at, at + len(a)), *(slice(0, n) for n in a.shape[1:]))
+        out[where] = a
         at += len(a)
     return out
 

@@ -63,3 +63,26 @@ def test_driving_again_replaces_that_controllers_entry_and_keeps_the_others():
     }
     again = with_drives(driven, [not_driven("f", "straight")])
     assert again["drive"]["straight"]["outcome"] == "no path"
+
+
+def test_a_robot_whose_contacts_continue_says_how_many_steps_touched_and_the_documents_accept_it():
+    import json
+
+    import jsonschema
+
+    from mazegen.runtime.documents._scenario_rules import check_document
+    from tests.conftest import ROOT
+
+    ran = episodes([TIMEOUT, COLLISION, ARRIVED], None)
+    first_touch = np.where(np.array([[True], [True], [False]]), ran.collision[1], NAN)  # the timeout's too
+    ran = Episodes(**{**ran.__dict__, "contacts": np.array([7, 1, 0], np.int32), "collision": first_touch})
+    touched, crashed, clean = (episode_drive("f.json", ran, k, ran.score()) for k in range(3))
+    assert touched.section()["contacts"] == 7 and touched.collision is not None
+    assert "7 steps touching" in touched.line("m")
+    assert "contacts" not in crashed.section() and "contacts" not in clean.section()  # as before contacts
+    section = {"drive": {"dwa": touched.section()}}
+    check_document(section, "f.json")
+    schema = json.loads((ROOT / "docs" / "scenario.schema.json").read_text())
+    jsonschema.validate(section["drive"]["dwa"], {**schema["$defs"]["drive"], "$defs": schema["$defs"]})
+    with pytest.raises(Exception, match="contacts"):
+        check_document({"drive": {"dwa": {**touched.section(), "contacts": 0}}}, "f.json")

@@ -31,7 +31,7 @@ def requests(controller: str, tmp_path) -> list[DriveRequest]:
     floors = random_floors(np.random.default_rng(5), 6, ARENA)
     hall = population(ARENA, floors)
     other_task = dataclasses.replace(ARENA, start=(900.0, 80.0), goal=(120.0, 520.0))
-    yard_robot = robot_for(YARD, max_speed=0.8, goal_tolerance=0.2)
+    yard_robot = robot_for(YARD, max_speed=0.8, goal_tolerance=0.2, contact="continue")
     found = [
         DriveRequest(hall, robot_for(ARENA), controller),
         DriveRequest(population(other_task, floors), robot_for(other_task), controller, np.array([5, 0, 3])),

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+import shapely
 
 from mazegen.errors import MazeError
 from mazegen.runtime.simulation import ARRIVED, COLLISION, NO_PATH, OUTCOMES, drive
@@ -50,6 +51,22 @@ def test_straight_fails_behind_a_u_shaped_trap_while_purepursuit_and_dwa_arrive(
     assert drive(floors, robot=robot, controller="straight").outcome[0] != ARRIVED
     assert drive(floors, robot=robot, controller="purepursuit").outcome[0] == ARRIVED
     assert drive(floors, robot=robot, controller="dwa").outcome[0] == ARRIVED
+
+
+def test_a_robot_whose_contacts_continue_stops_short_of_the_cup_and_drives_on():
+    floors = population(CORRIDOR, [U_TRAP])
+    ended = drive(floors, robot=robot_for(CORRIDOR), controller="straight", record=True)
+    robot = robot_for(CORRIDOR, contact="continue")
+    carried = drive(floors, robot=robot, controller="straight", record=True)
+    assert ended.outcome[0] == COLLISION and ended.contacts[0] == 1
+    assert OUTCOMES[carried.outcome[0]] == "timeout" and carried.stuck[0] and carried.contacts[0] > 1
+    np.testing.assert_array_equal(carried.collision[0], ended.collision[0])
+    assert carried.steps[0] > ended.steps[0] and carried.clearance[0] == 0.0
+    cup = shapely.union_all(
+        [shapely.box(x - w / 2, y - d / 2, x + w / 2, y + d / 2) for _, x, y, w, d, _ in U_TRAP]
+    )
+    poses = carried.trajectory[0][~np.isnan(carried.trajectory[0][:, 0])]
+    assert min(cup.distance(shapely.Point(x, y)) for x, y, _ in poses) > CORRIDOR.robot_radius
 
 
 def test_purepursuit_arrives_along_a_zigzag_and_keeps_clear():
