@@ -133,6 +133,17 @@ def measured(worlds: list[World], controller: str, contact: str) -> np.ndarray:
     )
 
 
+def write_measured(worlds: list[World], path: Path) -> None:
+    """BARN's five DWA runs of each world as ``mazegen fit`` reads them: scenario, outcome, time."""
+    lines = ["scenario,outcome,time"]
+    for world in worlds:
+        scenario = Path(world.floors.files[0]).relative_to(path.parent)
+        for seconds in world.times.tolist():
+            outcome = "arrived" if seconds < STOP_S else "timeout"
+            lines.append(f"{scenario},{outcome},{min(seconds, STOP_S):g}")
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
 def barn_measure(seconds: np.ndarray, path_m: np.ndarray) -> np.ndarray:
     """BARN's per-world measure: time over path length, a failure counting as :data:`FAILURE_S`."""
     return np.where(np.isfinite(seconds), seconds, FAILURE_S) / path_m
@@ -166,12 +177,22 @@ def main() -> None:
     parser.add_argument("--controllers", nargs="+", default=[row.name for row in BY_CODE])
     parser.add_argument("--per-world", action="store_true", help="print every world's row too")
     parser.add_argument(
+        "--keep",
+        type=Path,
+        help="import the worlds into this folder and write measured.csv there (mazegen fit's input)",
+    )
+    parser.add_argument(
         "--contact", nargs="+", choices=CONTACT_MODES, default=list(CONTACT_MODES),
         help="what a touch does: end the run (MazeGen's default) or continue it (Gazebo's)",
     )  # fmt: skip
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory(prefix="mazegen-barn-") as folder:
-        worlds = load_worlds(Path(folder))
+    if args.keep is not None:
+        worlds = load_worlds(args.keep)
+        write_measured(worlds, args.keep / "measured.csv")
+        print(f"kept the imported worlds and their measured runs in {args.keep / 'measured.csv'}\n")
+    else:
+        with tempfile.TemporaryDirectory(prefix="mazegen-barn-") as folder:
+            worlds = load_worlds(Path(folder))
     clocks = {
         f"{name}, contact {contact}": measured(worlds, name, contact)
         for name in args.controllers

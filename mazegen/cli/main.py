@@ -27,6 +27,7 @@ COMMANDS = {
     "import": "import_command",
     "score": "score",
     "drive": "drive",
+    "fit": "fit",
     "render": "render",
     "export": "export",
     "report": "report",

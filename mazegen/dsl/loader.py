@@ -162,12 +162,14 @@ def _declarations(files: list[ParsedFile]) -> tuple[dict[str, Any], dict[str, An
                 if decl.name in table:
                     fail(decl, f"'{decl.name}' is already declared at {where(table[decl.name])}")
                 table[decl.name] = decl
-            elif parsed is not main:
+            elif parsed is not main and kind != "RobotDecl":
                 fail(
                     decl,
-                    f"an imported file may declare only elements and arenas; {main.label} "
+                    f"an imported file may declare only elements, arenas and a robot; {main.label} "
                     "holds the scenario, fitness and evolution",
                 )
+            elif kind == "RobotDecl" and kind in singles:
+                fail(decl, f"only one robot block per spec (first at {where(singles[kind])})")
             elif kind in singles:
                 fail(
                     decl,

@@ -559,7 +559,7 @@ BAD_SPECS = [
         "4:23",
         "duplicate 'fov'",
     ),
-    ("robot: two robot blocks", spec(tail="robot { }\nrobot { }\n"), "5:1", "only one robot block per file"),
+    ("robot: two robot blocks", spec(tail="robot { }\nrobot { }\n"), "5:1", "only one robot block per spec (first at "),
     (
         "robot: drive nobody",
         spec(tail="robot { drive best 0 }\n"),
@@ -911,9 +911,22 @@ def test_imported_file_may_not_hold_a_scenario(write_spec):
     path = write_spec(
         'import "other.maze"\n' + ARENA.replace("floor", "hall") + "scenario t on hall { elements box }\n"
     )
-    with pytest.raises(MazeError, match="an imported file may declare only elements and arenas") as caught:
+    with pytest.raises(
+        MazeError, match="an imported file may declare only elements, arenas and a robot"
+    ) as caught:
         load_spec(path)
     assert caught.value.filename.endswith("other.maze")
+
+
+def test_a_robot_block_may_come_from_an_imported_file_but_a_spec_has_one(write_spec):
+    write_spec("robot { speed 40  contact continue }\n", name="robot.maze")
+    path = write_spec('import "robot.maze"\n' + spec())
+    robot = load_spec(path).robot
+    assert robot is not None and (robot.max_speed, robot.contact) == (40, "continue")
+    twice = write_spec('import "robot.maze"\n' + spec(tail="robot { speed 30 }\n"), name="twice.maze")
+    with pytest.raises(MazeError, match=r"only one robot block per spec \(first at .*twice.maze:") as caught:
+        load_spec(twice)
+    assert caught.value.filename.endswith("robot.maze")
 
 
 def test_error_in_imported_file_points_into_that_file(write_spec):

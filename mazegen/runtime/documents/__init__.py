@@ -22,6 +22,16 @@ if TYPE_CHECKING:
         summaries,
         with_drives,
     )
+    from mazegen.runtime.documents._fitting import (
+        Agreement,
+        Fit,
+        FitProblem,
+        Measured,
+        SearchSpace,
+        fit_controller,
+        read_measured,
+        robot_block,
+    )
     from mazegen.runtime.documents._floor import Floor, floor_of, load_floor, safe_name
     from mazegen.runtime.documents._folders import RunDirectory, SuiteDirectory, scenario_files
     from mazegen.runtime.documents._import import ImportedMap, wall_rectangles
@@ -40,14 +50,19 @@ if TYPE_CHECKING:
     from mazegen.runtime.documents._scoring import Scored, Scorer
 
 __all__ = [
+    "Agreement",
     "Drive",
+    "Fit",
+    "FitProblem",
     "Floor",
     "Floors",
     "ImportedMap",
+    "Measured",
     "OccupancyMap",
     "RunDirectory",
     "Scored",
     "Scorer",
+    "SearchSpace",
     "SuiteDirectory",
     "Summary",
     "best_documents",
@@ -59,12 +74,15 @@ __all__ = [
     "drive_floors",
     "driving_robot",
     "dumps",
+    "fit_controller",
     "floor_of",
     "has_parts",
     "load_floor",
     "population_from_document",
     "read_document",
+    "read_measured",
     "read_occupancy_map",
+    "robot_block",
     "row_document",
     "safe_name",
     "scenario_document",
@@ -91,6 +109,16 @@ __getattr__ = lazy_names(
         ],
         "_floor": ["Floor", "floor_of", "load_floor", "safe_name"],
         "_folders": ["RunDirectory", "scenario_files", "SuiteDirectory"],
+        "_fitting": [
+            "Agreement",
+            "Fit",
+            "FitProblem",
+            "Measured",
+            "SearchSpace",
+            "fit_controller",
+            "read_measured",
+            "robot_block",
+        ],
         "_import": ["ImportedMap", "wall_rectangles"],
         "_occupancy_maps": ["checked_resolution", "OccupancyMap", "read_occupancy_map"],
         "_scenario": [

@@ -60,14 +60,18 @@ def wall_rectangles(occupied: np.ndarray) -> list[Cells]:
     return rectangles
 
 
-def _near(occupied: np.ndarray, radius_cells: float) -> np.ndarray:
+def _near(occupied: np.ndarray, radius_cells: float, *, squares: bool = False) -> np.ndarray:
     """Cells with an obstacle cell's centre within ``radius_cells`` of theirs, the engine's disc
-    (``Grid.from_arena``): ``dy`` rows away, ``floor(sqrt(r^2 - dy^2))`` columns either side."""
+    (``Grid.from_arena``): ``dy`` rows away, ``floor(sqrt(r^2 - dy^2))`` columns either side. With
+    ``squares``, an obstacle cell's square instead of its centre, touching included: where a disc of
+    that radius on the cell's centre touches an obstacle, as the simulator's exact geometry finds."""
     rows, cols = occupied.shape
     counts = np.pad(np.cumsum(occupied, axis=1), ((0, 0), (1, 0)))
     near = np.zeros_like(occupied)
-    for dy in range(min(int(radius_cells), rows - 1) + 1):
-        span = int(np.floor(np.sqrt(max(radius_cells**2 - dy * dy, 0.0)) + 1e-9))
+    half = 0.5 if squares else 0.0
+    for dy in range(min(int(radius_cells + half + 1e-9), rows - 1) + 1):
+        gap = max(dy - half, 0.0)
+        span = int(np.floor(half + np.sqrt(max(radius_cells**2 - gap * gap, 0.0)) + 1e-9))
         low, high = np.maximum(np.arange(cols) - span, 0), np.minimum(np.arange(cols) + span + 1, cols)
         across = counts[:, high] > counts[:, low]  # an obstacle within span columns, in the same row
         near[dy:] |= across[: rows - dy]
@@ -129,6 +133,14 @@ class ImportedMap:
         blocked |= ((centres_x < r) | (centres_x > width - r))[None, :]
         return ~blocked
 
+    @cached_property
+    def standing(self) -> np.ndarray:
+        """``bool[rows, cols]``: cells of :attr:`robot_free` whose centre keeps the robot's disc off every
+        obstacle cell and the edge, touching none: where a drawn task's robot starts and stops (the
+        simulator decides contact on the walls' exact shapes, not on their cells' centres)."""
+        touching = _near(self.map.occupied, self.robot_radius / self.map.resolution, squares=True)
+        return self.robot_free & ~touching
+
     def arena_point(self, point: Point) -> Point:
         """A point of the map's frame in the arena's."""
         return round(point[0] - self.map.origin[0], 9), round(point[1] - self.map.origin[1], 9)
@@ -161,12 +173,23 @@ class ImportedMap:
         row, col = self._cell(point)
         if self.map.occupied[row, col]:
             raise MazeError(f"{shown} is on an obstacle: cell (column {col}, row {row} from the bottom)")
-        if not self.robot_free[row, col]:
+        if not self.robot_free[row, col] or self._touches(point):
             raise MazeError(
                 f"{shown} is nearer an obstacle than the robot radius {self.robot_radius:g} m: "
                 f"cell (column {col}, row {row} from the bottom)"
             )
         return point
+
+    def _touches(self, point: Point) -> bool:
+        """Whether the robot's disc on ``point`` touches an obstacle cell (its square, exactly)."""
+        cell, radius = self.map.resolution, self.robot_radius
+        row, col = self._cell(point)
+        reach = int(radius / cell) + 2
+        r0, c0 = max(row - reach, 0), max(col - reach, 0)
+        near_rows, near_cols = np.nonzero(self.map.occupied[r0 : row + reach + 1, c0 : col + reach + 1])
+        dx = np.maximum(np.abs((near_cols + c0 + 0.5) * cell - point[0]) - cell / 2, 0.0)
+        dy = np.maximum(np.abs((near_rows + r0 + 0.5) * cell - point[1]) - cell / 2, 0.0)
+        return bool((np.hypot(dx, dy) <= radius).any())
 
     def _cell(self, point: Point) -> tuple[int, int]:
         rows, cols = self.map.occupied.shape
@@ -174,14 +197,15 @@ class ImportedMap:
         return min(int(point[1] // cell), rows - 1), min(int(point[0] // cell), cols - 1)
 
     def random_tasks(self, count: int, seed: int) -> list[tuple[Point, Point]]:
-        """``count`` starts and goals at the centres of cells the robot can stand on, each goal reachable
-        from its start, drawn with ``numpy.random.default_rng(seed)``.
+        """``count`` starts and goals at the centres of cells the robot can stand on touching nothing
+        (:attr:`standing`), each goal reachable from its start, drawn with
+        ``numpy.random.default_rng(seed)``.
 
         Raises:
             MazeError: When no two free cells are connected for the robot.
         """
         labels = _components(self.robot_free).ravel()
-        free = np.flatnonzero(labels >= 0)
+        free = np.flatnonzero((labels >= 0) & self.standing.ravel())
         sizes = np.bincount(labels[free]) if free.size else np.zeros(0, dtype=np.int64)
         candidates = free[sizes[labels[free]] >= 2]
         if candidates.size == 0:
@@ -194,7 +218,7 @@ class ImportedMap:
         tasks = []
         for _ in range(count):
             start = int(rng.choice(candidates))
-            same = np.flatnonzero(labels == labels[start])
+            same = free[labels[free] == labels[start]]
             goal = int(rng.choice(same[same != start]))
             tasks.append((self._centre(start, cols), self._centre(goal, cols)))
         return tasks

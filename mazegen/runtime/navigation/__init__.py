@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
+    from mazegen.runtime.navigation._calibration import spearman
     from mazegen.runtime.navigation._connectivity import Reach, reach
     from mazegen.runtime.navigation._difficulty import Survey, survey
     from mazegen.runtime.navigation._measures import corner_paths_of, navigation_of, reach_of, survey_of
@@ -40,6 +41,7 @@ __all__ = [
     "reach_of",
     "route",
     "route_scratch",
+    "spearman",
     "survey",
     "survey_of",
 ]
@@ -47,6 +49,7 @@ __all__ = [
 __getattr__ = lazy_names(
     __name__,
     {
+        "_calibration": ["spearman"],
         "_connectivity": ["Reach", "reach"],
         "_difficulty": ["Survey", "survey"],
         "_measures": ["corner_paths_of", "navigation_of", "reach_of", "survey_of"],

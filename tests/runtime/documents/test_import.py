@@ -123,10 +123,10 @@ def test_a_map_server_map_with_unknown_cells_negate_and_an_origin(tmp_path, asci
     yaml = "resolution: 0.5\norigin: [-2.0, 3.0, 0.0]\nnegate: 1\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
     source = map_server_files(tmp_path, pixels, yaml, ascii_pgm=ascii_pgm, maxval=maxval)
     # The start and goal are in the map's frame: the arena's lower-left corner is the origin.
-    [path] = imported(source, tmp_path / "out", "--start", "-1.25,4.25", "--goal", "2.25,4.25")
+    [path] = imported(source, tmp_path / "out", "--start", "-1.25,4.75", "--goal", "2.25,4.25")
     assert np.array_equal(floor_cells(path), (pixels != free)[::-1])
     arena = json.loads(path.read_text())["arena"]
-    assert (arena["start"], arena["goal"]) == ([0.75, 1.25], [4.25, 1.25])
+    assert (arena["start"], arena["goal"]) == ([0.75, 1.75], [4.25, 1.25])
     assert (arena["width"], arena["height"]) == (5.0, 4.0)
 
 
@@ -227,3 +227,19 @@ def test_where_the_robot_may_stand_is_the_engines_configuration_space(tmp_path, 
     free, _ = load_floor(path).configuration_space(None)
     expected = ImportedMap(read_occupancy_map(tmp_path / "g.npy"), radius).robot_free
     assert np.array_equal(free, expected)
+
+
+def test_drawn_tasks_start_and_stop_where_the_robots_disc_touches_no_wall(tmp_path):
+    # 0.5 m cells, a 0.3 m robot: a cell beside an obstacle has its centre 0.5 m from the obstacle's
+    # centre (clear for the engine's disc) but 0.25 m from its edge (a touch for the simulator).
+    paths = imported(
+        EXAMPLES / "maps" / "rooms.txt", tmp_path / "out", "--tasks", "30", "--resolution", "0.5"
+    )
+    for path in paths:
+        document = json.loads(path.read_text())
+        walls = shapely.union_all(
+            [shapely.Polygon(part) for e in document["elements"] for part in e["parts"]]
+        )
+        for label in ("start", "goal"):
+            point = shapely.Point(document["arena"][label])
+            assert walls.distance(point) > document["arena"]["robot_radius"], (path, label)
