@@ -32,6 +32,7 @@ def run_bundled(drive: DriveState, fields: tuple) -> None:
         run_all,
         len(robots.outcome),
         *controller_slots(drive.choice.code, setup.params),
+        setup.params,
         setup.world.arrays,
         setup.episode,
         setup.paths.corners,
@@ -54,19 +55,19 @@ def controller_slots(code: int, params: np.ndarray) -> tuple[np.ndarray | None, 
 
 @njit(cache=True)
 def command(
-    straight, purepursuit, dwa, vfh, m, limits, pose, goal, nav, clear, grid, path, ranges, angles, out
+    straight, purepursuit, dwa, vfh, params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out
 ):  # pragma: no cover
-    """The command for robot ``m`` of the controller whose parameters (a row per robot) are given,
-    the others None, written to ``out``: THE dispatch point, one slot per bundled controller in the
-    order of their codes (a test checks it against the rows)."""
+    """The command of the controller whose slot is given (the others None), with its parameters
+    ``params`` (the robot's row), written to ``out``: THE dispatch point, one slot per bundled
+    controller in the order of their codes (a test checks it against the rows)."""
     if straight is not None:
-        straight_command(straight[m], limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        straight_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     elif purepursuit is not None:
-        purepursuit_command(purepursuit[m], limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        purepursuit_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     elif dwa is not None:
-        dwa_command(dwa[m], limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        dwa_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     elif vfh is not None:
-        vfh_command(vfh[m], limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        vfh_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
     else:
         out[0] = 0.0
         out[1] = 0.0
@@ -87,6 +88,7 @@ def run_all(
     purepursuit,
     dwa,
     vfh,
+    params,
     world,
     episode,
     paths,
@@ -98,7 +100,7 @@ def run_all(
     trajectory,
 ):  # pragma: no cover - compiled
     """Drive robots ``first`` to ``last - 1``, those still active, to the end of their episodes with the
-    controller whose parameters are given (:func:`controller_slots`).
+    controller whose slot is given (:func:`controller_slots`), each with its row of ``params``.
 
     ``episode`` and ``robots`` are as :func:`mazegen.runtime.simulation._step.advance` takes them;
     ``fields`` is ``(nav, clear, grid)``: per-floor fields on grids of their own (``grid[f]`` = ``(x0,
@@ -119,6 +121,7 @@ def run_all(
         f = m if nav.shape[0] > 1 else 0
         floor_nav, floor_clear, floor_grid = nav[f], clear[f], grid[f]
         robot_limits, robot_goal = limits[m], goal[m]
+        robot_params = params[m]
         path = paths[m, : path_count[m]]
         _record(trajectory, m, np.int64(0), state)
         while outcome[m] == ACTIVE:
@@ -127,8 +130,8 @@ def run_all(
             if angles.shape[0]:
                 scan(pose[0], pose[1], pose[2], angles, reach[m], m, world, near, ranges)
             command(
-                straight, purepursuit, dwa, vfh, m, robot_limits, pose, robot_goal, floor_nav, floor_clear,
-                floor_grid, path, ranges, angles, out,
+                straight, purepursuit, dwa, vfh, robot_params, robot_limits, pose, robot_goal, floor_nav,
+                floor_clear, floor_grid, path, ranges, angles, out,
             )  # fmt: skip
             advance(m, out[0], out[1], world, episode, robots)
             _record(trajectory, m, steps[m], state)

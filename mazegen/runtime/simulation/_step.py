@@ -136,13 +136,13 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     ``robots`` is ``(state, outcome, steps, progress, stuck, contacts)``: what they write. (The parts are not
     in ``episode``: numba's parallel loops take no tuple nested in a tuple.)
     """
-    limits, goal = episode[0][m], episode[1][m]
+    limits, goal = episode[0], episode[1]  # a row each per robot, indexed, not sliced: no view a step
     max_steps, stuck_steps, carry_on = episode[2], episode[3], episode[4]
     state, outcome, steps, progress, stuck, contacts = robots
-    dt = limits[STEP]
-    r = limits[RADIUS]
-    v = _window(command_v, state[m, V], limits[ACCEL] * dt, limits[MIN_SPEED], limits[MAX_SPEED])
-    w = _window(command_w, state[m, W], limits[TURN_ACCEL] * dt, -limits[MAX_TURN], limits[MAX_TURN])
+    dt = limits[m, STEP]
+    r = limits[m, RADIUS]
+    v = _window(command_v, state[m, V], limits[m, ACCEL] * dt, limits[m, MIN_SPEED], limits[m, MAX_SPEED])
+    w = _window(command_w, state[m, W], limits[m, TURN_ACCEL] * dt, -limits[m, MAX_TURN], limits[m, MAX_TURN])
     x0, y0, theta = state[m, X], state[m, Y], state[m, THETA]
     dx = v * math.cos(theta) * dt
     dy = v * math.sin(theta) * dt
@@ -150,7 +150,7 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     length = abs(v) * dt
     safe = state[m, SAFE] - length  # no point of the segment is nearer an obstacle than this
     hit = NO_HIT if safe > r else sweep(x0, y0, x1, y1, r, m, world)
-    reach = disc_entry(x0, y0, dx, dy, goal[0], goal[1], limits[GOAL_TOLERANCE])
+    reach = disc_entry(x0, y0, dx, dy, goal[m, 0], goal[m, 1], limits[m, GOAL_TOLERANCE])
     steps[m] += 1
     state[m, V], state[m, W] = v, w
     if hit <= 1.0 and hit < reach:
@@ -173,14 +173,14 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     else:
         # Beyond CLEARANCE + r the distance cannot set a new closest approach: a cutoff a few
         # steps' drive past it keeps the bound useful and the search short.
-        d = distance(x1, y1, m, world, state[m, CLEARANCE] + r + LOOKOUT * limits[MAX_SPEED] * dt)
+        d = distance(x1, y1, m, world, state[m, CLEARANCE] + r + LOOKOUT * limits[m, MAX_SPEED] * dt)
         state[m, SAFE] = d
         state[m, CLEARANCE] = min(state[m, CLEARANCE], max(d - r, 0.0))
     if reach <= 1.0:
         outcome[m] = ARRIVED
         return
-    to_goal = math.sqrt((goal[0] - x1) ** 2 + (goal[1] - y1) ** 2)
-    if to_goal < state[m, BEST] - PROGRESS * limits[MAX_SPEED] * dt:
+    to_goal = math.sqrt((goal[m, 0] - x1) ** 2 + (goal[m, 1] - y1) ** 2)
+    if to_goal < state[m, BEST] - PROGRESS * limits[m, MAX_SPEED] * dt:
         state[m, BEST] = to_goal
         progress[m] = steps[m]
     _timeouts(m, steps, progress, stuck, outcome, max_steps, stuck_steps)
