@@ -559,7 +559,12 @@ BAD_SPECS = [
         "4:23",
         "duplicate 'fov'",
     ),
-    ("robot: two robot blocks", spec(tail="robot { }\nrobot { }\n"), "5:1", "only one robot block per spec (first at "),
+    (
+        "robot: two robot blocks",
+        spec(tail="robot { }\nrobot { }\n"),
+        "5:1",
+        "only one robot block per spec (first at ",
+    ),
     (
         "robot: drive nobody",
         spec(tail="robot { drive best 0 }\n"),

@@ -29,7 +29,7 @@ import numpy as np
 
 from mazegen.controllers import ANGLE, BUNDLED, TURN
 from mazegen.errors import MazeError
-from mazegen.runtime.documents._driving import Floors
+from mazegen.runtime.documents._driving import Floors, driving_robot
 from mazegen.runtime.documents._floor import load_floor
 from mazegen.runtime.navigation import spearman
 from mazegen.spec import ControllerSpec, Spec, metres_per_unit
@@ -199,8 +199,6 @@ class FitProblem:
     """Measured scenarios made ready to drive, with their measures."""
 
     def __init__(self, measured: list[Measured], controller: str, failure_time: float) -> None:
-        from mazegen.runtime.documents._driving import driving_robot
-
         self.controller, self.failure_time = controller, failure_time
         self.floors: list[Floors] = []
         for runs in measured:

@@ -14,12 +14,13 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from collections.abc import Iterator, Sequence
 from typing import Any
 
 import numpy as np
 
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, MazeNote
 from mazegen.runtime.documents import Floor, safe_name
 from mazegen.runtime.exporters._floor import ExportOptions, rectangle_of, yaml_number
 from mazegen.runtime.exporters._gazebo import WALL_THICKNESS
@@ -158,7 +159,15 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     metres = floor.metres_per_unit(options)
     arena = floor.arena
     width, height = float(arena["width"]) * metres, float(arena["height"]) * metres
-    step = floor_robot(floor).step
+    robot = floor_robot(floor)
+    if robot.contact == "continue":
+        warnings.warn(
+            "IR-SIM's world stops a robot at its first contact (collision_mode stop); this spec's robot "
+            "drives on after a touch (contact continue), which the IR-SIM world does not carry",
+            MazeNote,
+            stacklevel=2,
+        )
+    step = robot.step
     t = WALL_THICKNESS
     lines = [
         f"# IR-SIM world of MazeGen scenario {json.dumps(floor.document.get('scenario'))}, "

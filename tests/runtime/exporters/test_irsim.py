@@ -9,6 +9,7 @@ import math
 import os
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +17,7 @@ import pytest
 import shapely
 
 import mazegen
-from mazegen.errors import MazeError
+from mazegen.errors import MazeError, MazeNote
 from mazegen.export_formats import BUNDLED
 from mazegen.runtime.documents._floor import Floor, load_floor
 from mazegen.runtime.exporters._floor import ExportOptions
@@ -198,3 +199,18 @@ def test_a_robot_without_a_lidar_has_no_sensor(tmp_path):
     base = mazegen.load(EXAMPLES / "factory.maze")
     floor = hand_floor(dataclasses.replace(base, robot=robot_for(base.arena, beams=0)), tmp_path)
     assert make(world_of(floor, tmp_path)).robot.sensors == []
+
+
+def test_a_robot_whose_contacts_continue_is_exported_with_a_note_that_irsim_stops_at_contact(tmp_path):
+    base = mazegen.load(EXAMPLES / "factory.maze")
+    (tmp_path / "end").mkdir()
+    ending = hand_floor(base, tmp_path / "end")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no note for a touch that ends the episode, as IR-SIM's does
+        irsim_files(ending, ExportOptions())
+    carrying = hand_floor(
+        dataclasses.replace(base, robot=robot_for(base.arena, contact="continue")), tmp_path
+    )
+    with pytest.warns(MazeNote, match="contact continue"):
+        files = irsim_files(carrying, ExportOptions())
+    assert b"collision_mode: stop" in next(iter(files.values()))
