@@ -40,7 +40,7 @@ from heterogeneous import BARN, import_barn
 
 from mazegen.controllers import BY_CODE
 from mazegen.runtime.documents import Floors, load_floor
-from mazegen.runtime.navigation._calibration import spearman
+from mazegen.runtime.navigation import spearman
 from mazegen.runtime.simulation import ARRIVED, DriveRequest, drive_many
 from mazegen.spec import CONTACT_MODES
 
