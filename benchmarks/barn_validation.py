@@ -38,11 +38,12 @@ import numpy as np
 from common import markdown_table
 from heterogeneous import BARN, import_barn
 
+import mazegen
 from mazegen.controllers import BY_CODE
 from mazegen.runtime.documents import Floors, load_floor
 from mazegen.runtime.navigation import spearman
 from mazegen.runtime.simulation import ARRIVED, DriveRequest, drive_many
-from mazegen.spec import CONTACT_MODES
+from mazegen.spec import CONTACT_MODES, ControllerSpec
 
 TIMER_RADIUS = math.sqrt(0.1)
 """jackal_timer's start and arrival radius, metres: the clock starts once the robot is this far
@@ -98,14 +99,27 @@ def load_worlds(folder: Path) -> list[World]:
     return worlds
 
 
-def timed_robot(floors: Floors, contact: str):
+def timed_robot(floors: Floors, contact: str, controllers: tuple[ControllerSpec, ...] = ()):
     """The floor's robot as the 2020 runs timed it: arrival within √0.1 m, and time enough for 50 s of
     clock after leaving the start (the timeout is a multiple of the optimal time); ``contact`` what a
-    touch does."""
+    touch does; ``controllers`` settings of controllers (a fitted robot block's), if any."""
     robot = floors.robot
     optimal = float(floors.population.measured["navigation"].path_length[0]) / robot.max_speed
     timeout = (STOP_S + 10.0) / optimal
-    return dataclasses.replace(robot, goal_tolerance=TIMER_RADIUS, timeout=timeout, contact=contact)
+    changes = {"controllers": controllers} if controllers else {}
+    return dataclasses.replace(
+        robot, goal_tolerance=TIMER_RADIUS, timeout=timeout, contact=contact, **changes
+    )
+
+
+def fitted_controllers(robot_file: Path, world: World) -> tuple[ControllerSpec, ...]:
+    """The controller settings of a robot block (``mazegen fit``'s), read as a world's spec imports it."""
+    spec_text = next(Path(world.floors.files[0]).parent.glob("*.maze")).read_text(encoding="utf-8")
+    with tempfile.TemporaryDirectory() as folder:
+        spec = Path(folder) / "spec.maze"
+        spec.write_text(f"import {json.dumps(str(robot_file.resolve()))}\n{spec_text}", encoding="utf-8")
+        robot = mazegen.load(spec).robot
+    return robot.controllers if robot is not None else ()
 
 
 def timed_seconds(episodes, start: tuple[float, float]) -> float:
@@ -121,11 +135,13 @@ def timed_seconds(episodes, start: tuple[float, float]) -> float:
     return seconds if seconds < STOP_S else math.inf
 
 
-def measured(worlds: list[World], controller: str, contact: str) -> np.ndarray:
-    """Each world's clock for ``controller``, ``inf`` where it failed."""
+def measured(
+    worlds: list[World], controller: str, contact: str, controllers: tuple[ControllerSpec, ...] = ()
+) -> np.ndarray:
+    """Each world's clock for ``controller`` (with ``controllers``' settings), ``inf`` where it failed."""
     requests = []
     for world in worlds:
-        robot = timed_robot(world.floors, contact)
+        robot = timed_robot(world.floors, contact, controllers)
         requests.append(DriveRequest(world.floors.population, robot, robot.controller(controller)))
     driven = drive_many(requests, record=True)
     return np.array(
@@ -173,7 +189,7 @@ def summary_row(name: str, seconds: np.ndarray, worlds: list[World]) -> dict:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines())
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--controllers", nargs="+", default=[row.name for row in BY_CODE])
     parser.add_argument("--per-world", action="store_true", help="print every world's row too")
     parser.add_argument(
@@ -185,16 +201,19 @@ def main() -> None:
         "--contact", nargs="+", choices=CONTACT_MODES, default=list(CONTACT_MODES),
         help="what a touch does: end the run (MazeGen's default) or continue it (Gazebo's)",
     )  # fmt: skip
+    parser.add_argument(
+        "--robot", type=Path, help="a robot block (mazegen fit's) whose controller settings to drive"
+    )
     args = parser.parse_args()
+    with tempfile.TemporaryDirectory(prefix="mazegen-barn-") as folder:
+        worlds = load_worlds(args.keep or Path(folder))
+        settings = fitted_controllers(args.robot, worlds[0]) if args.robot is not None else ()
     if args.keep is not None:
-        worlds = load_worlds(args.keep)
         write_measured(worlds, args.keep / "measured.csv")
         print(f"kept the imported worlds and their measured runs in {args.keep / 'measured.csv'}\n")
-    else:
-        with tempfile.TemporaryDirectory(prefix="mazegen-barn-") as folder:
-            worlds = load_worlds(Path(folder))
+    fitted = f", {args.robot.name}" if args.robot is not None else ""
     clocks = {
-        f"{name}, contact {contact}": measured(worlds, name, contact)
+        f"{name}{fitted}, contact {contact}": measured(worlds, name, contact, settings)
         for name in args.controllers
         for contact in args.contact
     }

@@ -173,7 +173,9 @@ class ImportedMap:
         row, col = self._cell(point)
         if self.map.occupied[row, col]:
             raise MazeError(f"{shown} is on an obstacle: cell (column {col}, row {row} from the bottom)")
-        if not self.robot_free[row, col] or self._touches(point):
+        # A start whose disc touches a wall is a collision before the first step; a goal is arrived at
+        # within the goal tolerance, before any touch (BARN's own goals touch a wall cell's square).
+        if not self.robot_free[row, col] or (label == "start" and self._touches(point)):
             raise MazeError(
                 f"{shown} is nearer an obstacle than the robot radius {self.robot_radius:g} m: "
                 f"cell (column {col}, row {row} from the bottom)"
