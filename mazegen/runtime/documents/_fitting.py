@@ -29,6 +29,7 @@ import numpy as np
 
 from mazegen.controllers import ANGLE, BUNDLED, TURN
 from mazegen.errors import MazeError
+from mazegen.fileio import read_text
 from mazegen.runtime.documents._driving import Floors, driving_robot
 from mazegen.runtime.documents._floor import load_floor
 from mazegen.runtime.navigation import spearman
@@ -69,12 +70,7 @@ def read_measured(path: Path) -> list[Measured]:
         MazeError: at the line of an unknown or missing column, an unknown outcome, or a time that is
             not a finite number of seconds.
     """
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeError) as error:
-        raise MazeError(
-            f"cannot read measured runs: {getattr(error, 'strerror', None) or error}", filename=str(path)
-        ) from error
+    text = read_text(path, "measured runs")  # a FIFO or a directory is one line, never a wait
     rows = list(csv.reader(text.splitlines()))
     if not rows:
         raise MazeError(

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -93,3 +95,10 @@ def test_only_a_bundled_controllers_own_parameters_are_fitted():
     with pytest.raises(MazeError, match="is not bundled"):
         SearchSpace.of("pkg.mod:policy", None)
     assert "v_samples" not in SearchSpace.of("dwa", None).names  # counts are left alone by default
+
+
+def test_a_measured_file_that_is_a_fifo_is_refused_in_one_line_not_waited_on(tmp_path):
+    fifo = tmp_path / "measured.csv"
+    os.mkfifo(fifo)
+    with pytest.raises(MazeError, match="cannot read measured runs: a FIFO, not a regular file"):
+        read_measured(fifo)
