@@ -79,10 +79,10 @@ class World:
         return int((self.times >= STOP_S).sum())
 
 
-def load_worlds(folder: Path) -> list[World]:
+def load_worlds(folder: Path, radius: float) -> list[World]:
     entries = {entry["world"]: entry for entry in json.loads(BARN.read_text())["worlds"]}
     worlds = []
-    for file in import_barn(folder, 1):
+    for file in import_barn(folder, 1, radius):
         floor = load_floor(file)
         number = int(floor.document["scenario"].rsplit("_", 1)[1])
         entry = entries[number]
@@ -99,16 +99,21 @@ def load_worlds(folder: Path) -> list[World]:
     return worlds
 
 
-def timed_robot(floors: Floors, contact: str, controllers: tuple[ControllerSpec, ...] = ()):
+def timed_robot(
+    floors: Floors, contact: str, controllers: tuple[ControllerSpec, ...] = (), *, reverse: bool = False
+):
     """The floor's robot as the 2020 runs timed it: arrival within √0.1 m, and time enough for 50 s of
-    clock after leaving the start (the timeout is a multiple of the optimal time); ``contact`` what a
-    touch does; ``controllers`` settings of controllers (a fitted robot block's), if any."""
+    clock after leaving the start (the timeout is a multiple of the optimal time), never cut short for
+    lack of progress; ``contact`` what a touch does; ``controllers`` settings of controllers (a fitted
+    robot block's), if any; ``reverse``: the Jackal backs up at up to its speed (move_base's escape)."""
     robot = floors.robot
     optimal = float(floors.population.measured["navigation"].path_length[0]) / robot.max_speed
     timeout = (STOP_S + 10.0) / optimal
     changes = {"controllers": controllers} if controllers else {}
+    if reverse:
+        changes["min_speed"] = -robot.max_speed
     return dataclasses.replace(
-        robot, goal_tolerance=TIMER_RADIUS, timeout=timeout, contact=contact, **changes
+        robot, goal_tolerance=TIMER_RADIUS, timeout=timeout, stuck=STOP_S + 10.0, contact=contact, **changes
     )
 
 
@@ -141,7 +146,7 @@ def measured(
     """Each world's clock for ``controller`` (with ``controllers``' settings), ``inf`` where it failed."""
     requests = []
     for world in worlds:
-        robot = timed_robot(world.floors, contact, controllers)
+        robot = timed_robot(world.floors, contact, controllers, reverse=controller == "movebase")
         requests.append(DriveRequest(world.floors.population, robot, robot.controller(controller)))
     driven = drive_many(requests, record=True)
     return np.array(
@@ -204,9 +209,14 @@ def main() -> None:
     parser.add_argument(
         "--robot", type=Path, help="a robot block (mazegen fit's) whose controller settings to drive"
     )
+    parser.add_argument(
+        "--robot-radius", type=float, default=0.3,
+        help="the disc the simulator collides, metres (default BARN's C-space radius 0.3; the Jackal is "
+        "0.508 x 0.430 m)",
+    )  # fmt: skip
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="mazegen-barn-") as folder:
-        worlds = load_worlds(args.keep or Path(folder))
+        worlds = load_worlds(args.keep or Path(folder), args.robot_radius)
         settings = fitted_controllers(args.robot, worlds[0]) if args.robot is not None else ()
     if args.keep is not None:
         write_measured(worlds, args.keep / "measured.csv")

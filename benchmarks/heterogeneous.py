@@ -1,7 +1,7 @@
 """Floors that share nothing, driven in one batch: BARN's worlds, each with its own arena and task.
 
 Usage:
-    python benchmarks/heterogeneous.py [--controllers dwa straight] [--repeats 3] [--tasks 2]
+    python benchmarks/heterogeneous.py [--controllers dwa movebase straight] [--repeats 3] [--tasks 2]
 
 The floors: the 150 training worlds of ``../shared/anchors/barn/barn-train.json`` imported with
 ``mazegen import`` (each a spec of its own: a 4.5 × 4.5 m arena, its walls, its start and goal),
@@ -37,8 +37,8 @@ from mazegen.runtime.simulation import NO_PATH, DriveRequest, drive, drive_many
 from mazegen.spec import robot_for
 
 BARN = ROOT.parent / "shared" / "anchors" / "barn" / "barn-train.json"
-GOAL_EPISODES_PER_S = 500.0
-"""The issue's goal for dwa over 300 heterogeneous BARN-sized floors, on 2 cores."""
+GOAL_EPISODES_PER_S = {"dwa": 500.0, "movebase": 300.0}
+"""The issue's goals over 300 heterogeneous BARN-sized floors, on 2 cores."""
 COLUMNS = [
     ("controller", "controller", "s"),
     ("how", "driven as", "s"),
@@ -50,8 +50,9 @@ COLUMNS = [
 ]
 
 
-def import_barn(folder: Path, tasks: int) -> list[Path]:
-    """Every training world of :data:`BARN` imported into ``folder``: ``tasks`` scenario files each."""
+def import_barn(folder: Path, tasks: int, radius: float = 0.3) -> list[Path]:
+    """Every training world of :data:`BARN` imported into ``folder``: ``tasks`` scenario files each, for a
+    robot of ``radius`` metres."""
     from click.testing import CliRunner
 
     from mazegen.cli.import_ import import_command
@@ -63,6 +64,7 @@ def import_barn(folder: Path, tasks: int) -> list[Path]:
         for task in range(tasks):
             out = folder / f"world-{world:03d}-task-{task}"
             extra = [] if task == 0 else ["--tasks", "1", "--seed", str(task)]
+            extra += [] if radius == 0.3 else ["--robot-radius", str(radius)]
             done = runner.invoke(import_command, [str(BARN), "--world", str(world), "-o", str(out), *extra])
             if done.exit_code != 0:
                 raise SystemExit(f"importing world {world}: {done.output}")
@@ -98,7 +100,7 @@ def row(
 
 def controller_rows(controller: str, files: list[Path], repeats: int) -> list[dict]:
     requests = requests_of(files, controller)
-    goal = GOAL_EPISODES_PER_S if controller == "dwa" else None
+    goal = GOAL_EPISODES_PER_S.get(controller)
     batch = drive_many(requests)
     outcome = np.concatenate([e.outcome for e in batch])
     steps = np.concatenate([e.steps for e in batch])
@@ -157,7 +159,7 @@ def heterogeneous_rows(controllers: list[str], repeats: int, tasks: int = 2) -> 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--controllers", nargs="+", default=["dwa", "straight"])
+    parser.add_argument("--controllers", nargs="+", default=["dwa", "movebase", "straight"])
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--tasks", type=int, default=2, help="scenario files per world (300 floors at 2)")
     args = parser.parse_args()

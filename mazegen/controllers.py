@@ -16,9 +16,10 @@ from dataclasses import dataclass
 LENGTH, SPEED, TIME, ANGLE, TURN, NUMBER = "m", "m/s", "s", "rad", "rad/s", ""
 """Units of parameters; lengths and speeds are scaled to the arena's unit."""
 
-LIDAR, PATH, FIELDS = "lidar", "path", "fields"
+LIDAR, PATH, FIELDS, COSTMAP = "lidar", "path", "fields", "costmap"
 """What a kernel may read besides the pose, the goal and the robot's limits: the lidar's scan,
-MazeGen's path, and the navigation and clearance fields."""
+MazeGen's path, the navigation and clearance fields, and a move_base costmap with its planners'
+fields (all at the controller's own ``resolution``)."""
 
 LIMITS = ("max_speed", "min_speed", "max_turn", "accel", "turn_accel", "step", "radius", "goal_tolerance")
 """The robot's limits in the order of the ``limits`` array every kernel reads (and a user's policy
@@ -54,7 +55,7 @@ class BundledController:
             (``command`` in ``mazegen/runtime/simulation/_loop.py``): 0, 1, 2 … in turn.
         kernel: Its kernel, ``module.function`` in ``mazegen/runtime/simulation`` (numba names the
             kernel's cache files so).
-        reads: What the kernel reads of :data:`LIDAR`, :data:`PATH` and :data:`FIELDS`.
+        reads: What the kernel reads of :data:`LIDAR`, :data:`PATH`, :data:`FIELDS` and :data:`COSTMAP`.
         limits: The robot's limits (:data:`LIMITS`) the kernel reads.
         summary: What it does, in a line.
         source: Where it comes from.
@@ -90,6 +91,14 @@ class BundledController:
         return [p.name for p in self.parameters].index(name)
 
 
+_SAMPLES = (
+    Parameter("v_samples", 6, NUMBER, "speeds sampled in the dynamic window", 1, 100, "BARN's vx_samples"),
+    Parameter(
+        "w_samples", 20, NUMBER, "turn rates sampled in the dynamic window", 1, 200, "BARN's vtheta_samples"
+    ),
+)
+"""The dynamic window's samples, as both DWA controllers take them."""
+
 BUNDLED: dict[str, BundledController] = {
     "straight": BundledController(
         "straight",
@@ -117,18 +126,7 @@ BUNDLED: dict[str, BundledController] = {
         summary="the dynamic window approach over a navigation function from the goal",
         source="the BARN challenge's move_base DWA baseline on a Clearpath Jackal",
         parameters=(
-            Parameter(
-                "v_samples", 6, NUMBER, "speeds sampled in the dynamic window", 1, 100, "BARN's vx_samples"
-            ),
-            Parameter(
-                "w_samples",
-                20,
-                NUMBER,
-                "turn rates sampled in the dynamic window",
-                1,
-                200,
-                "BARN's vtheta_samples",
-            ),
+            *_SAMPLES,
             Parameter(
                 "horizon",
                 2.0,
@@ -332,6 +330,149 @@ BUNDLED: dict[str, BundledController] = {
             ),
         ),
         window="window",
+    ),
+    "movebase": BundledController(
+        "movebase",
+        code=4,
+        kernel="_movebase.movebase_command",
+        reads=frozenset({COSTMAP}),
+        limits=("max_speed", "max_turn", "accel", "turn_accel"),
+        summary="move_base as BARN ran it: navfn replanning on an inflated costmap, base_local_planner's DWA",
+        source="move_base with navfn and base_local_planner (dwa: true) on a Jackal, as BARN configured it",
+        parameters=(
+            *_SAMPLES,
+            Parameter(
+                "horizon", 2.0, TIME, "how far ahead each sample is rolled out", 0.1, 60.0, "BARN's sim_time"
+            ),
+            Parameter(
+                "granularity",
+                0.02,
+                LENGTH,
+                "longest step between a rollout's checked poses",
+                1e-6,
+                source="BARN's sim_granularity",
+            ),
+            Parameter(
+                "angular_granularity",
+                0.02,
+                ANGLE,
+                "largest turn between checked poses",
+                1e-6,
+                6.3,
+                "BARN's angular_sim_granularity",
+            ),
+            Parameter(
+                "period",
+                0.05,
+                TIME,
+                "the window's reach: the accelerations over this",
+                1e-6,
+                10.0,
+                "BARN's 1 / controller_frequency",
+            ),
+            Parameter("min_vel", 0.1, SPEED, "slowest forward speed sampled", 0.0, source="BARN's min_vel_x"),
+            Parameter(
+                "min_in_place_turn",
+                0.314,
+                TURN,
+                "slowest turn on the spot",
+                0.0,
+                100.0,
+                "BARN's min_in_place_vel_theta",
+            ),
+            Parameter(
+                "path_weight",
+                0.75,
+                NUMBER,
+                "weight of the distance to the plan",
+                source="BARN's pdist_scale",
+            ),
+            Parameter(
+                "goal_weight",
+                1.0,
+                NUMBER,
+                "weight of the distance to the goal",
+                source="BARN's gdist_scale",
+            ),
+            Parameter(
+                "obstacle_weight",
+                0.1,
+                NUMBER,
+                "weight of the costliest cell under the footprint",
+                source="BARN's occdist_scale",
+            ),
+            Parameter(
+                "heading_lookahead",
+                0.325,
+                LENGTH,
+                "turns on the spot face the goal this far ahead",
+                0.0,
+                source="BARN's heading_lookahead",
+            ),
+            Parameter(
+                "oscillation_reset",
+                0.05,
+                LENGTH,
+                "drive this far to lift the oscillation guard",
+                0.0,
+                source="BARN's oscillation_reset_dist",
+            ),
+            Parameter(
+                "escape_vel",
+                -0.5,
+                SPEED,
+                "speed it backs up at when nothing else is valid (a robot that cannot reverse stands)",
+                -100.0,
+                0.0,
+                "BARN's escape_vel",
+            ),
+            Parameter(
+                "escape_reset_dist",
+                0.1,
+                LENGTH,
+                "backing up ends after this far",
+                0.0,
+                source="BARN's escape_reset_dist",
+            ),
+            Parameter(
+                "escape_reset_theta",
+                0.1,
+                ANGLE,
+                "or after turning this much",
+                0.0,
+                6.3,
+                "BARN's escape_reset_theta",
+            ),
+            Parameter(
+                "length", 0.42, LENGTH, "footprint length, front to back", 0.0, source="BARN's footprint"
+            ),
+            Parameter("width", 0.33, LENGTH, "footprint width", 0.0, source="BARN's footprint"),
+            Parameter(
+                "padding",
+                0.1,
+                LENGTH,
+                "added to the footprint on every side",
+                0.0,
+                source="BARN's footprint_padding",
+            ),
+            Parameter(
+                "inflation",
+                0.30,
+                LENGTH,
+                "cells this near an obstacle cost more than 0",
+                0.0,
+                source="BARN's inflation_radius",
+            ),
+            Parameter(
+                "decay",
+                0.1,
+                LENGTH,
+                "inflation cost falls by e over this",
+                1e-9,
+                source="costmap_2d's default cost_scaling_factor 10",
+            ),
+            Parameter("resolution", 0.05, LENGTH, "costmap cell", 1e-6, source="BARN's costmap resolution"),
+        ),
     ),
 }
 """The bundled controllers by name."""

@@ -47,7 +47,7 @@ _SETTINGS = {
     setting.label: setting
     for setting in (
         _Setting("speed", "max_speed", 0, MAX_LENGTH, "arena units per second"),
-        _Setting("min speed", "min_speed", 0, MAX_LENGTH, "arena units per second", open_low=False),
+        _Setting("min speed", "min_speed", -MAX_LENGTH, MAX_LENGTH, "arena units per second", open_low=False),
         _Setting("turn rate", "max_turn", 0, 3600, "degrees per second", degrees=True),
         _Setting("acceleration", "accel", 0, MAX_TARGET, "arena units per second squared"),
         _Setting("turn acceleration", "turn_accel", 0, 1_000_000, "degrees per second squared", degrees=True),
@@ -257,6 +257,9 @@ def convert_robot(
     if robot.min_speed > robot.max_speed:
         node = single.get("MinSpeedLimit") or single["SpeedLimit"]
         fail(node, f"min speed {robot.min_speed:g} is above the speed {robot.max_speed:g}")
+    if robot.min_speed < -robot.max_speed:
+        node = single.get("MinSpeedLimit") or single["SpeedLimit"]
+        fail(node, f"min speed {robot.min_speed:g} backs up faster than the speed {robot.max_speed:g}")
     controllers = _controllers(blocks, terms, arena)
     _check_policies_found(blocks, [] if fitness is None else fitness.terms)
     return dataclasses.replace(robot, controllers=controllers)

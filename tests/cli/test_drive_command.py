@@ -161,8 +161,8 @@ def test_an_unknown_controller_is_one_line_naming_the_known_ones_before_anything
     result = invoke(str(bad), "-c", "dwa", "-c", "dwb")
     assert result.exit_code == 2 and fake.calls == []
     assert result.stderr.splitlines() == [
-        "unknown controller 'dwb': known are dwa, purepursuit, straight, vfh, or a user's policy as "
-        "package.module:name"
+        "unknown controller 'dwb': known are dwa, movebase, purepursuit, straight, vfh, or a user's policy "
+        "as package.module:name"
     ]
     for given in ([], ["-c", ","]):  # no controller at all: one line, exit status 1
         result = invoke(str(bad), *given)

@@ -511,6 +511,12 @@ BAD_SPECS = [
         "min speed 60 is above the speed 50",
     ),
     (
+        "robot: backing up faster than the speed",
+        spec(tail="robot { speed 50 min speed -60 }\n"),
+        "4:18",
+        "min speed -60 backs up faster than the speed 50",
+    ),
+    (
         "robot: turn rate in degrees, bounded",
         spec(tail="robot { turn rate 4000 }\n"),
         "4:9",
@@ -581,8 +587,8 @@ BAD_SPECS = [
         "robot: unknown controller",
         spec(tail="robot { controller dwaa { } }\n"),
         "4:9",
-        "unknown controller 'dwaa' (did you mean 'dwa'?) (bundled: straight, dwa, purepursuit, vfh; "
-        "or a policy's path package.module:name)",
+        "unknown controller 'dwaa' (did you mean 'dwa'?) (bundled: straight, dwa, purepursuit, vfh, "
+        "movebase; or a policy's path package.module:name)",
     ),
     (
         "robot: a policy's path without its name",

@@ -3,13 +3,14 @@
 Every per-robot controller kernel has the one signature the episode loop dispatches on
 (:mod:`mazegen.runtime.simulation._loop`)::
 
-    NAME_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles, out)
+    NAME_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out)
 
 ``params`` are the controller's parameters in the order of its row of :mod:`mazegen.controllers`
 (lengths in arena units), ``limits`` the robot's (in :data:`mazegen.controllers.LIMITS` order),
 ``pose`` ``(x, y, theta, v, w)``, ``goal`` ``(gx, gy)``; ``nav``, ``clear`` and ``grid`` are the
 navigation and clearance fields, ``path`` MazeGen's path corners, ``scan`` and ``angles`` the
-lidar; the command ``(v, w)`` goes to ``out``.
+lidar, ``memory`` the controller's own state carried from step to step (a row per robot, zeroed
+when its episode begins; only ``movebase`` keeps any); the command ``(v, w)`` goes to ``out``.
 The loop clamps it to the robot's limits and acceleration window afterwards.
 """
 
@@ -38,7 +39,7 @@ def wrap(angle):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def straight_command(
-    params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
+    params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
 ):  # pragma: no cover
     """Turn toward the goal (proportional gain ``heading_gain``) and drive at top speed; turn on the
     spot while the heading error exceeds ``turn_in_place``."""
@@ -93,7 +94,7 @@ def carrot(path, x, y, reach):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def purepursuit_command(
-    params, limits, pose, goal, nav, clear, grid, path, scan, angles, out
+    params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
 ):  # pragma: no cover
     """nav2's regulated pure pursuit along MazeGen's path."""
     x, y, theta = pose[0], pose[1], pose[2]

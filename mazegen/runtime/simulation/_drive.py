@@ -20,10 +20,12 @@ from typing import Any
 
 import numpy as np
 
-from mazegen.controllers import FIELDS
+from mazegen.controllers import COSTMAP, FIELDS
 from mazegen.errors import MazeError
 from mazegen.runtime.engine import Population
+from mazegen.runtime.geometry import grid_of
 from mazegen.runtime.simulation._choice import Choice, choose
+from mazegen.runtime.simulation._costmap import costmap_fields, costmap_grid
 from mazegen.runtime.simulation._episodes import NO_PATH, Episodes
 from mazegen.runtime.simulation._fields import floor_fields, joined_fields
 from mazegen.runtime.simulation._lidar import beam_angles
@@ -147,7 +149,7 @@ def _run_to_the_end(state: DriveState) -> None:
     choice = state.choice
     if choice.policy is not None:
         run_policy(state, choice.policy)
-    elif FIELDS in choice.reads:
+    elif FIELDS in choice.reads or COSTMAP in choice.reads:
         _run_with_fields(state)
     else:
         run_bundled(state, _NO_FIELDS)
@@ -157,16 +159,43 @@ _NO_FIELDS = (np.full((1, 1, 1), np.inf, np.float32), np.zeros((1, 1, 1), np.flo
 """The fields of controllers that read none: one 1×1 dummy shared by every floor."""
 
 
-FIELD_CHUNK = 1024
-"""Floors whose fields are built and driven at a time: the fields of a 128 × 128 grid take 128 kB
-a floor, so a drive over many floors holds a chunk's, not all of them."""
+FIELD_CELLS = 1 << 24
+"""Field cells built and driven at a time (a chunk of floors, at least one): 16 M cells of the two or
+three float32 layers a floor's fields hold take 130 to 200 MB, so a drive over many floors holds a
+chunk's, not all of them."""
 
 
 def _run_with_fields(state: DriveState) -> None:
     """Drive chunk after chunk of floors, each with the fields of its floors."""
-    for a in range(0, len(state.rows), FIELD_CHUNK):
-        part = state.part(a, min(a + FIELD_CHUNK, len(state.rows)))
-        run_bundled(part, joined_fields([floor_fields(g.population, g.robot, g.rows) for g in part.groups]))
+    costmap = COSTMAP in state.choice.reads
+    cells = np.concatenate(
+        [np.full(len(g.rows), _cells(g, params, costmap)) for g, params in _group_params(state)]
+    )
+    a = 0
+    while a < len(cells):
+        b = a + max(1, int(np.searchsorted(np.cumsum(cells[a:]), FIELD_CELLS, side="right")))
+        part = state.part(a, b)
+        if costmap:
+            fields = [costmap_fields(g.population, params, g.rows) for g, params in _group_params(part)]
+        else:
+            fields = [floor_fields(g.population, g.robot, g.rows) for g in part.groups]
+        run_bundled(part, joined_fields(fields))
+        a = b
+
+
+def _group_params(state: DriveState) -> list[tuple[FloorGroup, np.ndarray]]:
+    """Each group of ``state`` with its controller parameters (one row for all its floors)."""
+    found, at = [], 0
+    for group in state.groups:
+        found.append((group, state.setup.params[at]))
+        at += len(group.rows)
+    return found
+
+
+def _cells(group: FloorGroup, params: np.ndarray, costmap: bool) -> int:
+    """Cells of each of ``group``'s floors' fields."""
+    grid = costmap_grid(group.population.arena, params) if costmap else grid_of(group.population.arena)
+    return grid.rows * grid.cols
 
 
 def set_up(

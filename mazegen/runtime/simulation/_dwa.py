@@ -54,7 +54,9 @@ LETHAL = 252.0
 
 
 @njit(cache=True)
-def dwa_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles, out):  # pragma: no cover
+def dwa_command(
+    params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
+):  # pragma: no cover
     """The cheapest admissible ``(v, w)`` of the dynamic window, written to ``out``.
 
     The result is the plain minimum over every sample of (cost, tie-break, speed index, turn

@@ -202,7 +202,7 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
     per_cell = 1.0 / cell
     ring = heads.shape[0]
     bucket = int(seed * per_cell)
-    used = _file(keys, cells, links, heads, 0, seed, gr * cols + gc, bucket % ring)
+    used = file_entry(keys, cells, links, heads, 0, seed, gr * cols + gc, bucket % ring)
     pending = 1
     diagonal = math.sqrt(2.0) * cell
     while pending:
@@ -234,12 +234,12 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
                     best[nr, nc] = reached
                     # (never below the bucket being emptied, whatever the rounding)
                     slot = max(int(reached * per_cell), bucket + 1) % ring
-                    used = _file(keys, cells, links, heads, used, reached, nr * cols + nc, slot)
+                    used = file_entry(keys, cells, links, heads, used, reached, nr * cols + nc, slot)
                     pending += 1
 
 
 @njit(cache=True, inline="always")
-def _file(keys, cells, links, heads, used, key, value, slot):  # pragma: no cover - compiled
+def file_entry(keys, cells, links, heads, used, key, value, slot):  # pragma: no cover - compiled
     """Put ``(key, value)`` first in bucket ``slot``, in entry ``used``; returns the next free entry."""
     keys[used], cells[used], links[used] = key, value, heads[slot]
     heads[slot] = used

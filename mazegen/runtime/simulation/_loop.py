@@ -18,6 +18,7 @@ from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._controllers import purepursuit_command, straight_command
 from mazegen.runtime.simulation._dwa import dwa_command
 from mazegen.runtime.simulation._lidar import scan
+from mazegen.runtime.simulation._movebase import MEMORY, movebase_command
 from mazegen.runtime.simulation._state import ACTIVE, DriveState, X
 from mazegen.runtime.simulation._step import advance
 from mazegen.runtime.simulation._vfh import vfh_command
@@ -55,19 +56,37 @@ def controller_slots(code: int, params: np.ndarray) -> tuple[np.ndarray | None, 
 
 @njit(cache=True)
 def command(
-    straight, purepursuit, dwa, vfh, params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out
+    straight,
+    purepursuit,
+    dwa,
+    vfh,
+    movebase,
+    params,
+    limits,
+    pose,
+    goal,
+    nav,
+    clear,
+    grid,
+    path,
+    ranges,
+    angles,
+    memory,
+    out,
 ):  # pragma: no cover
     """The command of the controller whose slot is given (the others None), with its parameters
     ``params`` (the robot's row), written to ``out``: THE dispatch point, one slot per bundled
     controller in the order of their codes (a test checks it against the rows)."""
     if straight is not None:
-        straight_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        straight_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, memory, out)
     elif purepursuit is not None:
-        purepursuit_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        purepursuit_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, memory, out)
     elif dwa is not None:
-        dwa_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        dwa_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, memory, out)
     elif vfh is not None:
-        vfh_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, out)
+        vfh_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, memory, out)
+    elif movebase is not None:
+        movebase_command(params, limits, pose, goal, nav, clear, grid, path, ranges, angles, memory, out)
     else:
         out[0] = 0.0
         out[1] = 0.0
@@ -88,6 +107,7 @@ def run_all(
     purepursuit,
     dwa,
     vfh,
+    movebase,
     params,
     world,
     episode,
@@ -116,6 +136,7 @@ def run_all(
     ranges = np.zeros(angles.shape[0])
     near = np.zeros(most, np.int64)
     pose = np.zeros(5)
+    memory = np.zeros(MEMORY)
     out = np.zeros(2)
     for m in range(first, last):
         f = m if nav.shape[0] > 1 else 0
@@ -123,6 +144,7 @@ def run_all(
         robot_limits, robot_goal = limits[m], goal[m]
         robot_params = params[m]
         path = paths[m, : path_count[m]]
+        memory[:] = 0.0
         _record(trajectory, m, np.int64(0), state)
         while outcome[m] == ACTIVE:
             for k in range(5):
@@ -130,8 +152,8 @@ def run_all(
             if angles.shape[0]:
                 scan(pose[0], pose[1], pose[2], angles, reach[m], m, world, near, ranges)
             command(
-                straight, purepursuit, dwa, vfh, robot_params, robot_limits, pose, robot_goal, floor_nav,
-                floor_clear, floor_grid, path, ranges, angles, out,
+                straight, purepursuit, dwa, vfh, movebase, robot_params, robot_limits, pose, robot_goal,
+                floor_nav, floor_clear, floor_grid, path, ranges, angles, memory, out,
             )  # fmt: skip
             advance(m, out[0], out[1], world, episode, robots)
             _record(trajectory, m, steps[m], state)

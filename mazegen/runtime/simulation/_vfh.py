@@ -35,7 +35,9 @@ SECTORS, THRESHOLD, SAFETY, WINDOW, WIDE, HEADING_GAIN = range(6)
 
 
 @njit(cache=True)
-def vfh_command(params, limits, pose, goal, nav, clear, grid, path, scan, angles, out):  # pragma: no cover
+def vfh_command(
+    params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
+):  # pragma: no cover
     """Steer through the lidar opening nearest the goal's bearing; ``(v, w)`` to ``out``."""
     n = max(int(params[SECTORS]), 1)
     width = 2.0 * math.pi / n

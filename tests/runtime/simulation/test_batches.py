@@ -52,6 +52,7 @@ def _tuned(controller: str) -> ControllerSpec | str:
         "dwa": (("v_samples", 7.0),),
         "purepursuit": (("lookahead", 0.6),),
         "vfh": (("safety", 0.15),),
+        "movebase": (("w_samples", 12.0),),
     }
     return ControllerSpec(controller, settings[controller]) if controller in settings else controller
 
@@ -66,7 +67,7 @@ def assert_same(batched: Episodes, alone: Episodes) -> None:
             assert a == b, field.name
 
 
-@pytest.mark.parametrize("controller", ["straight", "purepursuit", "dwa", "vfh"])
+@pytest.mark.parametrize("controller", ["straight", "purepursuit", "dwa", "vfh", "movebase"])
 def test_one_batch_drives_every_request_exactly_as_alone(controller, tmp_path, monkeypatch):
     given = requests(controller, tmp_path)
     calls = []

@@ -82,7 +82,9 @@ def reference(params, pose, nav, clear, grid, path):
 
 def command(params, pose, nav, clear, grid, path):
     out = np.zeros(2)
-    dwa_command(params, LIMITS, np.asarray(pose, np.float64), GOAL, nav, clear, grid, path, NONE, NONE, out)
+    dwa_command(
+        params, LIMITS, np.asarray(pose, np.float64), GOAL, nav, clear, grid, path, NONE, NONE, NONE, out
+    )
     return float(out[0]), float(out[1])
 
 
@@ -159,6 +161,7 @@ def test_dwa_stops_when_no_sample_is_admissible():
         np.array([[1.0, 1.0], GOAL]),
         NONE,
         NONE,
+        NONE,
         out,
     )
     assert out.tolist() == [0.0, 0.0]
@@ -217,7 +220,8 @@ def test_dwa_drives_alike_in_chunks_of_floors(monkeypatch):
     rng = np.random.default_rng(9)
     pop = population(ARENA, [*random_floors(rng, 9, ARENA), U_TRAP])
     whole = drive(pop, robot=ROBOT, controller="dwa", record=True)
-    monkeypatch.setattr(_drive, "FIELD_CHUNK", 4)
+    grid = grid_of(ARENA)
+    monkeypatch.setattr(_drive, "FIELD_CELLS", 4 * grid.rows * grid.cols)
     chunked = drive(pop, robot=ROBOT, controller="dwa", record=True)
     assert (whole.outcome == ARRIVED).sum() >= 3
     assert whole.outcome.tobytes() == chunked.outcome.tobytes()

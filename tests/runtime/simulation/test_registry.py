@@ -15,40 +15,58 @@ from types import ModuleType
 import numpy as np
 import pytest
 
-from mazegen.controllers import BUNDLED, BY_CODE, FIELDS, LIDAR, LIMITS, PATH, BundledController
+from mazegen.controllers import BUNDLED, BY_CODE, COSTMAP, FIELDS, LIDAR, LIMITS, PATH, BundledController
 from mazegen.runtime.simulation import _controllers, _loop, drive
 from mazegen.runtime.simulation._state import robot_limits
 from mazegen.spec import Arena, robot_for
 from tests.runtime.floors import population
 
 ROWS = BY_CODE
-READS = {LIDAR: {"scan", "angles"}, PATH: {"path"}, FIELDS: {"nav", "clear", "grid"}}
-"""What each kind of input is called among a controller kernel's arguments."""
+READS = {
+    LIDAR: {"scan", "angles"},
+    PATH: {"path"},
+    FIELDS: {"nav", "clear", "grid"},
+    COSTMAP: {"nav", "clear", "grid"},
+}
+"""What each kind of input is called among a controller kernel's arguments (the two kinds of map,
+MazeGen's fields and move_base's costmap, in the same three)."""
 
 
 def _kernel(row: BundledController) -> tuple[ModuleType, dict[str, ast.FunctionDef], str]:
     """The module of ``row``'s kernel, its functions' definitions, and the kernel's name."""
     module_name, function = row.kernel.split(".")
     module = importlib.import_module(f"mazegen.runtime.simulation.{module_name}")
+    return module, _functions(module), function
+
+
+def _functions(module: ModuleType) -> dict[str, ast.FunctionDef]:
     tree = ast.parse(inspect.getsource(module))
-    return module, {node.name: node for node in tree.body if isinstance(node, ast.FunctionDef)}, function
+    return {node.name: node for node in tree.body if isinstance(node, ast.FunctionDef)}
 
 
-def _subscripts(row: BundledController, array: str) -> set[str]:
-    """Every index ``row``'s kernel reads ``array`` at, in its body and in the functions of its module
-    it hands ``array`` to."""
-    _, functions, kernel = _kernel(row)
-    found: set[str] = set()
-    todo, seen = [kernel], {kernel}
+def _subscripts(row: BundledController, array: str) -> set[tuple[ModuleType, str]]:
+    """Every index ``row``'s kernel reads ``array`` at, with the module it is read in: in its body and
+    in the functions it hands ``array`` to, of its module or of the simulation modules it imports
+    them from."""
+    module, _, kernel = _kernel(row)
+    found: set[tuple[ModuleType, str]] = set()
+    todo, seen = [(module, kernel)], {(module.__name__, kernel)}
     while todo:
-        for node in ast.walk(functions[todo.pop()]):
+        where, name = todo.pop()
+        functions = _functions(where)
+        for node in ast.walk(functions[name]):
             if isinstance(node, ast.Subscript) and _is_name(node.value, array):
-                found.add(ast.unparse(node.slice))
+                found.add((where, ast.unparse(node.slice)))
             elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
-                callee = node.func.id
-                if callee in functions and callee not in seen and any(_is_name(a, array) for a in node.args):
-                    todo.append(callee)
-                    seen.add(callee)
+                callee, home = node.func.id, where
+                if callee not in functions:  # imported from another simulation module?
+                    home = inspect.getmodule(getattr(where, callee, None)) or where
+                    if not home.__name__.startswith("mazegen.runtime.simulation."):
+                        continue
+                handed = any(_is_name(a, array) for a in node.args)
+                if handed and (home.__name__, callee) not in seen and callee in _functions(home):
+                    todo.append((home, callee))
+                    seen.add((home.__name__, callee))
     return found
 
 
@@ -63,25 +81,26 @@ def test_the_rows_codes_number_the_controllers_from_zero():
 
 @pytest.mark.parametrize("row", ROWS, ids=lambda row: row.name)
 def test_each_kernel_reads_its_parameters_where_its_row_puts_them(row):
-    module, _, _ = _kernel(row)
     read = _subscripts(row, "params")
     names = [p.name for p in row.parameters]
-    assert {index.lower() for index in read} <= set(names)  # by named constants, never a bare number
-    for index in read:
-        assert getattr(module, index) == row.index(index.lower()), index
+    assert {index.lower() for _, index in read} <= set(names)  # by named constants, never a bare number
+    for module, index in read:
+        assert getattr(module, index) == row.index(index.lower()), (module.__name__, index)
     # every parameter is read: by the kernel, or by the drive (the path's margin)
-    assert {index.lower() for index in read} | {row.margin} - {None} == set(names)
+    assert {index.lower() for _, index in read} | {row.margin} - {None} == set(names)
 
 
 @pytest.mark.parametrize("row", ROWS, ids=lambda row: row.name)
 def test_each_kernel_reads_the_limits_and_inputs_its_row_names(row):
-    module, functions, kernel = _kernel(row)
+    _, functions, kernel = _kernel(row)
     read = _subscripts(row, "limits")
-    assert {index.lower() for index in read} == set(row.limits)
-    for index in read:
+    assert {index.lower() for _, index in read} == set(row.limits)
+    for module, index in read:
         assert getattr(module, index) == LIMITS.index(index.lower()), index
     used = {node.id for node in ast.walk(functions[kernel]) if isinstance(node, ast.Name)}
-    assert {kind for kind, arguments in READS.items() if arguments & used} == row.reads
+    inputs = set().union(*READS.values())
+    assert used & inputs == set().union(*(READS[kind] for kind in row.reads))
+    assert not {FIELDS, COSTMAP} <= row.reads  # one kind of map: they share the arguments
 
 
 def test_the_limits_constants_follow_limits():

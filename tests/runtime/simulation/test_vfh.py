@@ -69,7 +69,7 @@ def reference(params, pose, goal, scan, angles):
 def command(params, pose, goal, scan, angles):
     out = np.zeros(2)
     vfh_command(params, LIMITS, np.array(pose, np.float64), np.array(goal, np.float64), NONE2, NONE2,
-                np.zeros(5), np.zeros((0, 2)), scan, angles, out)  # fmt: skip
+                np.zeros(5), np.zeros((0, 2)), scan, angles, np.zeros(0), out)  # fmt: skip
     return tuple(out)
 
 
