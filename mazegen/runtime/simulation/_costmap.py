@@ -33,7 +33,7 @@ from mazegen.controllers import BUNDLED
 from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry import cspace, grid_args, grid_of, raster_arrays
 from mazegen.runtime.navigation import kernel_args
-from mazegen.runtime.simulation._fields import clearance, field_scratch, file_entry
+from mazegen.runtime.simulation._fields import clearance, field_scratch, file_entry, take_lowest
 from mazegen.runtime.threads import in_blocks
 
 if TYPE_CHECKING:
@@ -156,13 +156,8 @@ def potential(clear, costs, goal_row, goal_col, out, scratch, heads):  # pragma:
     pending, bucket = 1, 0
     diagonal = math.sqrt(2.0)
     while pending:
-        while heads[bucket % ring] < 0:
-            bucket += 1
-        entry = heads[bucket % ring]
-        heads[bucket % ring] = links[entry]
+        bucket, key, r, c = take_lowest(keys, cells, links, heads, bucket, cols)
         pending -= 1
-        key, here = keys[entry], cells[entry]
-        r, c = here // cols, here - (here // cols) * cols
         if key > best[r, c] or out[r, c] < np.inf:
             continue
         out[r, c] = key

@@ -206,13 +206,8 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
     pending = 1
     diagonal = math.sqrt(2.0) * cell
     while pending:
-        while heads[bucket % ring] < 0:
-            bucket += 1
-        entry = heads[bucket % ring]
-        heads[bucket % ring] = links[entry]
+        bucket, key, r, c = take_lowest(keys, cells, links, heads, bucket, cols)
         pending -= 1
-        key, here = keys[entry], cells[entry]
-        r, c = here // cols, here - (here // cols) * cols
         if key > best[r, c] or out[r, c] < _FAR:  # a stale entry, or settled already
             continue
         out[r, c] = key
@@ -236,6 +231,19 @@ def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - co
                     slot = max(int(reached * per_cell), bucket + 1) % ring
                     used = file_entry(keys, cells, links, heads, used, reached, nr * cols + nc, slot)
                     pending += 1
+
+
+@njit(cache=True, inline="always")
+def take_lowest(keys, cells, links, heads, bucket, cols):  # pragma: no cover - compiled
+    """``(bucket, key, row, col)``: the first entry of the lowest bucket from ``bucket`` on that holds
+    any, taken off it (cells numbered ``row · cols + col``)."""
+    ring = heads.shape[0]
+    while heads[bucket % ring] < 0:
+        bucket += 1
+    entry = heads[bucket % ring]
+    heads[bucket % ring] = links[entry]
+    here = cells[entry]
+    return bucket, keys[entry], here // cols, here - (here // cols) * cols
 
 
 @njit(cache=True, inline="always")

@@ -147,29 +147,21 @@ def test_the_goal_distance_is_a_breadth_first_search_of_4_connected_cells():
 
 
 def _bresenham(r0: int, c0: int, r1: int, c1: int) -> list[tuple[int, int]]:
-    """base_local_planner's line of cells from (x0, y0) = (c0, r0) to (c1, r1), both ends included."""
+    """base_local_planner's line of cells from (x0, y0) = (c0, r0) to (x1, y1) = (c1, r1), both ends
+    included: a step along the longer axis every cell, along the other when the error overflows."""
     cells = []
-    dx, dy = abs(c1 - c0), abs(r1 - r0)
-    sx, sy = (1 if c1 >= c0 else -1), (1 if r1 >= r0 else -1)
-    x, y = c0, r0
-    if dx >= dy:
-        num = dx // 2
-        for _ in range(dx + 1):
-            cells.append((y, x))
-            num += dy
-            if num >= dx:
-                num -= dx
-                y += sy
-            x += sx
-    else:
-        num = dy // 2
-        for _ in range(dy + 1):
-            cells.append((y, x))
-            num += dx
-            if num >= dy:
-                num -= dy
-                x += sx
-            y += sy
+    along_x = abs(c1 - c0) >= abs(r1 - r0)
+    major, minor = (abs(c1 - c0), abs(r1 - r0)) if along_x else (abs(r1 - r0), abs(c1 - c0))
+    step_c, step_r = (1 if c1 >= c0 else -1), (1 if r1 >= r0 else -1)
+    r, c, num = r0, c0, major // 2
+    for _ in range(major + 1):
+        cells.append((r, c))
+        num += minor
+        overflow = num >= major
+        if overflow:
+            num -= major
+        r += step_r if (overflow if along_x else True) else 0
+        c += step_c if (True if along_x else overflow) else 0
     return cells
 
 
