@@ -31,9 +31,9 @@ from numba import njit
 
 from mazegen.controllers import BUNDLED
 from mazegen.runtime.compiling import inner_kernel
-from mazegen.runtime.geometry import cspace, grid_args, grid_of, raster_arrays
+from mazegen.runtime.geometry import cspace, grid_args, grid_of
 from mazegen.runtime.navigation import kernel_args
-from mazegen.runtime.simulation._fields import clearance, field_scratch, file_entry, take_lowest
+from mazegen.runtime.simulation._fields import clearance, file_entry, raster_scratch, take_lowest
 from mazegen.runtime.threads import in_blocks
 
 if TYPE_CHECKING:
@@ -95,13 +95,7 @@ def _costmaps_all(
     first, last, shapes, ids, n_el, params, indices, grid, extent, costs, goal, nav, clear
 ):  # pragma: no cover - compiled
     """Fill ``nav[m]`` and ``clear[m]`` for floor ``indices[m]``, ``m`` from ``first`` to ``last - 1``."""
-    rows, cols = grid[1], grid[2]
-    reach = grid[3].shape[0] - 1
-    raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
-    free = np.zeros((rows, grid[4].shape[1]), np.uint64)
-    stride = raster[1].shape[0] // rows
-    occupied = raster[0][0, reach * stride : (reach + rows) * stride].reshape((rows, stride))
-    scratch = field_scratch(rows, cols)
+    raster, free, occupied, scratch = raster_scratch(grid, ids, shapes)
     heads = np.empty(RING, np.int64)
     goal_row, goal_col = goal
     for m in range(first, last):
@@ -110,8 +104,8 @@ def _costmaps_all(
         clearance(occupied, grid[0], extent, clear[m], scratch)
         potential(clear[m], costs, goal_row, goal_col, nav[m, 0], scratch, heads)
         goal_distance(clear[m], costs, goal_row, goal_col, nav[m, 1], scratch[5])
-        for r in range(rows):
-            for c in range(cols):
+        for r in range(clear.shape[1]):
+            for c in range(clear.shape[2]):
                 nav[m, 2, r, c] = cell_cost(clear[m, r, c], costs[0], costs[1], costs[2])
 
 

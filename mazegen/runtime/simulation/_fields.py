@@ -88,18 +88,26 @@ def _fields_all(
     first, last, shapes, ids, n_el, params, indices, grid, extent, nav, clear
 ):  # pragma: no cover
     """Fill ``nav[m]`` and ``clear[m]`` for floor ``indices[m]``, ``m`` from ``first`` to ``last - 1``."""
+    raster, free, occupied, scratch = raster_scratch(grid, ids, shapes)
+    for m in range(first, last):
+        i = indices[m]
+        cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
+        clearance(occupied, grid[0], extent, clear[m], scratch)
+        navigation(free, grid[0], grid[5], grid[6], nav[m], scratch)
+
+
+@njit(cache=True)
+def raster_scratch(grid, ids, shapes):  # pragma: no cover - compiled
+    """``(raster, free, occupied, scratch)`` of one thread building floors' fields on ``grid``: the
+    configuration-space raster and free rows :func:`cspace` fills, the rows of occupied cells (a view
+    of the raster), and :func:`field_scratch`."""
     rows, cols = grid[1], grid[2]
     reach = grid[3].shape[0] - 1
     raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
     free = np.zeros((rows, grid[4].shape[1]), np.uint64)
     stride = raster[1].shape[0] // rows
     occupied = raster[0][0, reach * stride : (reach + rows) * stride].reshape((rows, stride))
-    scratch = field_scratch(rows, cols)
-    for m in range(first, last):
-        i = indices[m]
-        cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
-        clearance(occupied, grid[0], extent, clear[m], scratch)
-        navigation(free, grid[0], grid[5], grid[6], nav[m], scratch)
+    return raster, free, occupied, field_scratch(rows, cols)
 
 
 @njit(cache=True)
