@@ -30,6 +30,7 @@ import numpy as np
 from numba import njit
 
 from mazegen.controllers import BUNDLED
+from mazegen.errors import MazeError
 from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry import cspace, grid_args, grid_of
 from mazegen.runtime.navigation import kernel_args
@@ -59,9 +60,23 @@ def inscribed_radius(params: np.ndarray) -> float:
     return 0.5 * float(params[_WIDTH]) + float(params[_PADDING])
 
 
+MOST_CELLS = 4096
+"""Costmap cells on a side at most: 16 M cells, 200 MB of fields a floor."""
+
+
 def costmap_grid(arena: Arena, params: np.ndarray) -> Grid:
-    """The costmap's grid on ``arena``: cells of the controller's ``resolution``."""
-    return grid_of(replace(arena, grid=float(params[_RESOLUTION]), robot_radius=inscribed_radius(params)))
+    """The costmap's grid on ``arena``: cells of the controller's ``resolution``.
+
+    Raises:
+        MazeError: a resolution that makes more than :data:`MOST_CELLS` cells on a side.
+    """
+    resolution = float(params[_RESOLUTION])
+    if max(arena.width, arena.height) / resolution > MOST_CELLS:
+        raise MazeError(
+            f"controller movebase's resolution {resolution:g} makes more than {MOST_CELLS} cells on a side "
+            f"of arena '{arena.name}' ({arena.width:g} x {arena.height:g} {arena.unit})"
+        )
+    return grid_of(replace(arena, grid=resolution, robot_radius=inscribed_radius(params)))
 
 
 def costmap_fields(

@@ -14,6 +14,7 @@ from collections import deque
 import numpy as np
 import pytest
 
+from mazegen.errors import MazeError
 from mazegen.runtime.simulation import ARRIVED, drive
 from mazegen.runtime.simulation._choice import bundled_params
 from mazegen.runtime.simulation._costmap import costmap_fields, descend
@@ -21,7 +22,7 @@ from mazegen.runtime.simulation._movebase import MEMORY, movebase_command
 from mazegen.runtime.simulation._paths import floor_paths
 from mazegen.runtime.simulation._rollout import CUT, OFF, frame_of, score, trajectory
 from mazegen.runtime.simulation._state import robot_limits
-from mazegen.spec import Arena, robot_for
+from mazegen.spec import Arena, ControllerSpec, robot_for
 from tests.runtime.floors import population
 
 YARD = Arena("yard", 4.0, 3.0, "m", (0.5, 1.5), (3.5, 1.5), 0.2, 0.05)
@@ -333,3 +334,11 @@ def test_a_corridor_closed_to_the_padded_footprint_is_planned_around_and_replann
     # the robot strays from the first plan's cells, and the plan follows it: replanned, not replayed
     first = set(plans[0])
     assert any(not set(plan) <= first for plan in plans[1:])
+
+
+def test_a_resolution_too_fine_for_the_arena_is_one_line_before_anything_is_built():
+    fine = ControllerSpec("movebase", (("resolution", 1e-4),))
+    with pytest.raises(
+        MazeError, match=r"^controller movebase's resolution 0.0001 makes more than 4096 cells"
+    ):
+        drive(population(YARD, [GAP]), robot=ROBOT, controller=fine)
