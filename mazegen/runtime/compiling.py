@@ -25,9 +25,9 @@ RUN_SECONDS = 75
 measured 39 s for ``mazegen run``, which compiles on both cores, 72 s for a run of the Python API,
 ``resume`` or ``sweep``, which compile on one)."""
 
-DRIVE_SECONDS = 40
+DRIVE_SECONDS = 50
 """Seconds a first drive with one bundled controller waits, at most, likewise (15–25 s measured quiet;
-``movebase``, the largest, 44 s at load 1.0–1.5, where ``dwa`` took 36)."""
+``movebase``, the largest, 44–48 s at load 1.0–1.5, where ``dwa`` took 33–36)."""
 
 
 def compile_note(work: str, seconds: int) -> str:
