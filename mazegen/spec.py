@@ -72,11 +72,39 @@ class ElementType:
 
 
 @dataclass(frozen=True)
+class BaseMap:
+    """The map an arena is built on (``arena hall { map "hall.yaml" }``): its blocked cells are walls
+    every floor of the arena has, and its extent is the arena.
+
+    Attributes:
+        source: The map file as the spec names it.
+        resolution: Arena units per cell.
+        rows: Cells along y.
+        cols: Cells along x.
+        origin: The map frame's ``(x, y)`` of the arena's lower-left corner, metres (map_server's
+            ``origin``), so that exports put the floor back where the map lies.
+        unknown: ``"blocked"`` or ``"free"``: what the spec made of the map's unknown cells.
+        blocked: The blocked cells, row 0 the lowest, packed 8 to a byte (first cell in the lowest
+            bit) and written in base64: plain text, so a spec holding a map still pickles, hashes
+            and serialises as before (:func:`mazegen.maps.base_cells` unpacks it).
+    """
+
+    source: str
+    resolution: float
+    rows: int
+    cols: int
+    origin: Point
+    unknown: str
+    blocked: str
+
+
+@dataclass(frozen=True)
 class Arena:
     """The floor: a rectangle ``[0, width] x [0, height]`` with a start and goal.
 
     ``grid`` is the cell size of the occupancy grid that solvability and the
     difficulty metrics are computed on, or ``None`` for :attr:`cell`'s default.
+    ``base`` is the map the floor is built on, or ``None`` for an empty rectangle.
     """
 
     name: str
@@ -87,6 +115,7 @@ class Arena:
     goal: Point
     robot_radius: float
     grid: float | None = None
+    base: BaseMap | None = None
 
     @property
     def cell(self) -> float:
@@ -477,6 +506,8 @@ class Spec:
                 del term["plugin"]
         if body["robot"] is not None and body["robot"]["contact"] == "end":  # likewise before contacts
             del body["robot"]["contact"]
+        if body["arena"]["base"] is None:  # likewise before base maps
+            del body["arena"]["base"]
         return json.dumps(body, indent=2, sort_keys=True, allow_nan=False) + "\n"
 
     @classmethod
@@ -526,6 +557,7 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         _pair(a["goal"]),
         float(a["robot_radius"]),
         None if a.get("grid") is None else float(a["grid"]),
+        _base_from_dict(a.get("base")),
     )
     s = data["scenario"]
     placement = s["placement"]
@@ -563,6 +595,12 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         Evolution(**{**FIRST_OPERATORS, **data["evolution"]}),
         _robot_from_dict(data.get("robot")),
     )
+
+
+def _base_from_dict(data: dict[str, Any] | None) -> BaseMap | None:
+    if data is None:
+        return None
+    return BaseMap(**{**data, "origin": _pair(data["origin"])})
 
 
 def _plugin_from_dict(data: dict[str, Any] | None) -> PluginMetric | None:

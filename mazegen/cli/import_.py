@@ -101,7 +101,8 @@ def import_command(
         raise MazeError("--start and --goal go together")
     if tasks is not None and given[0] is not None:
         raise MazeError("--tasks draws starts and goals: give it or --start and --goal, not both")
-    from mazegen.runtime.documents import ImportedMap, checked_resolution, read_occupancy_map
+    from mazegen.maps import checked_resolution, read_occupancy_map
+    from mazegen.runtime.documents import ImportedMap
 
     if resolution is not None:
         checked_resolution(resolution, "--resolution")

@@ -20,55 +20,10 @@ from mazegen.spec import (
     GrammarPlacement,
     Scenario,
     out_of_bounds,
-    task_point_problem,
 )
 from mazegen.text import decode_escapes, quoted
 
 _WORD = re.compile(r"\w")
-
-
-def convert_arena(decl: Any) -> Arena:
-    """Check one ``arena`` block and convert it."""
-    what = f"arena '{decl.name}'"
-    props = single_properties(decl.properties, what)
-    for key, example in (
-        ("ArenaSize", "size 1400 x 1050 cm"),
-        ("StartProperty", "start (60, 60)"),
-        ("GoalProperty", "goal (1340, 990)"),
-    ):
-        if key not in props:
-            fail(decl, f"{what} has no {example.split()[0]} (add e.g. '{example}')")
-    size = props["ArenaSize"]
-    if size.width <= 0 or size.height <= 0:
-        fail(size, f"arena size must be positive, got {size.width:g} x {size.height:g}")
-    if max(size.width, size.height) > MAX_LENGTH:
-        shown = f"{size.width:.15g} x {size.height:.15g}"
-        fail(size, f"arena size must be at most {MAX_LENGTH}, got {shown}")
-    radius = props["RobotProperty"].radius if "RobotProperty" in props else 0.0
-    if radius < 0:
-        fail(props["RobotProperty"], f"robot radius must not be negative, got {radius:g}")
-    if "RobotProperty" in props:
-        at_most(props["RobotProperty"], radius, MAX_LENGTH, "robot radius")
-    points = {}
-    for key, label in (("StartProperty", "start"), ("GoalProperty", "goal")):
-        point = props[key].point
-        problem = task_point_problem(label, (point.x, point.y), size.width, size.height, radius)
-        if problem is not None:
-            fail(point, problem)
-        points[label] = (point.x, point.y)
-    if points["start"] == points["goal"]:
-        fail(props["GoalProperty"], "start and goal are the same point")
-    grid = props["GridProperty"].cell if "GridProperty" in props else None
-    if grid is not None and not 0 < grid <= min(size.width, size.height) / 4:
-        fail(
-            props["GridProperty"],
-            f"grid cell must be positive and at most a quarter of the arena's shorter side, got {grid:g}",
-        )
-    if grid is not None and max(size.width, size.height) / grid > 1024:
-        fail(props["GridProperty"], f"grid cell {grid:g} makes more than 1024 cells on a side")
-    return Arena(
-        decl.name, size.width, size.height, size.unit or "cm", points["start"], points["goal"], radius, grid
-    )
 
 
 def _int_values(obj: Any, what: str, *, minimum: int) -> tuple[int, ...]:

@@ -13,7 +13,8 @@ from typing import Any
 from textx.exceptions import TextXSemanticError, TextXSyntaxError
 
 from mazegen import plugins
-from mazegen.dsl.blocks import convert_arena, convert_evolution, convert_fitness, convert_scenario
+from mazegen.dsl.arena import convert_arena
+from mazegen.dsl.blocks import convert_evolution, convert_fitness, convert_scenario
 from mazegen.dsl.elements import check_fits, convert_element
 from mazegen.dsl.located import display_path, fail, where
 from mazegen.dsl.metamodel import metamodel
@@ -21,7 +22,7 @@ from mazegen.dsl.robot import convert_robot
 from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.spec import Spec
+from mazegen.spec import FitnessTerm, Spec
 from mazegen.text import quoted
 
 LIBRARY_DIR = Path(__file__).resolve().parent.parent / "library"
@@ -200,6 +201,8 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
         for element in elements:
             check_fits(element_decls[element.name], element, arena)
     fitness = convert_fitness(singles.get("FitnessDecl"), scenario.elements)
+    if arena.base is not None and not any(term.kind == "outside" for term in fitness):
+        fitness = (*fitness, FitnessTerm("outside", reject=True))  # no element on the map's walls
     robot = convert_robot(singles.get("RobotDecl"), arena, fitness, singles.get("FitnessDecl"))
     return Spec(
         name=scenario.name,

@@ -17,6 +17,7 @@ from mazegen.errors import MazeError
 from mazegen.metric_plugins import metric_function
 from mazegen.runtime import simulation
 from mazegen.runtime.engine import SX, SY, Population
+from mazegen.runtime.geometry import elements_on_walls, grid_of
 from mazegen.runtime.geometry import elements_outside as elements_outside_of
 from mazegen.runtime.geometry import overlapping_pairs as overlapping_pairs_of
 from mazegen.runtime.navigation import navigation_of, reach_of, survey_of
@@ -52,11 +53,13 @@ def _count_over_size(params, n_elements, limit):  # pragma: no cover - compiled
 
 
 def elements_outside(pop: Population) -> np.ndarray:
-    """Elements not wholly inside the arena."""
+    """Elements not wholly inside the arena: outside its rectangle, or on its base map's walls."""
     arena = pop.arena
-    return elements_outside_of(
-        pop.table, pop.element_ids, pop.n_elements, pop.params, arena.width, arena.height
-    ).astype(np.float64)
+    arrays = (pop.table, pop.element_ids, pop.n_elements, pop.params)
+    outside = elements_outside_of(*arrays, arena.width, arena.height)
+    if arena.base is not None:
+        outside = outside + elements_on_walls(*arrays, grid_of(arena), (arena.width, arena.height))
+    return outside.astype(np.float64)
 
 
 def unsolvable(pop: Population) -> np.ndarray:

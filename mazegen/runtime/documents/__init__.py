@@ -34,8 +34,7 @@ if TYPE_CHECKING:
     )
     from mazegen.runtime.documents._floor import Floor, floor_of, load_floor, safe_name
     from mazegen.runtime.documents._folders import RunDirectory, SuiteDirectory, scenario_files
-    from mazegen.runtime.documents._import import ImportedMap, wall_rectangles
-    from mazegen.runtime.documents._occupancy_maps import OccupancyMap, checked_resolution, read_occupancy_map
+    from mazegen.runtime.documents._import import ImportedMap
     from mazegen.runtime.documents._scenario import (
         check_complete,
         checked_document,
@@ -58,7 +57,6 @@ __all__ = [
     "Floors",
     "ImportedMap",
     "Measured",
-    "OccupancyMap",
     "RunDirectory",
     "Scored",
     "Scorer",
@@ -69,7 +67,6 @@ __all__ = [
     "check_complete",
     "check_document",
     "checked_document",
-    "checked_resolution",
     "completed_document",
     "drive_floors",
     "driving_robot",
@@ -81,7 +78,6 @@ __all__ = [
     "population_from_document",
     "read_document",
     "read_measured",
-    "read_occupancy_map",
     "robot_block",
     "row_document",
     "safe_name",
@@ -89,7 +85,6 @@ __all__ = [
     "scenario_files",
     "spec_controllers",
     "summaries",
-    "wall_rectangles",
     "with_drives",
 ]
 
@@ -119,8 +114,7 @@ __getattr__ = lazy_names(
             "read_measured",
             "robot_block",
         ],
-        "_import": ["ImportedMap", "wall_rectangles"],
-        "_occupancy_maps": ["checked_resolution", "OccupancyMap", "read_occupancy_map"],
+        "_import": ["ImportedMap"],
         "_scenario": [
             "check_complete",
             "checked_document",

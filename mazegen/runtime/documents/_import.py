@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.runtime.documents._occupancy_maps import OccupancyMap
+from mazegen.maps import Cells, OccupancyMap, near_cells, wall_rectangles
 from mazegen.runtime.documents._scenario import FORMAT, VERSION, completed_document
 from mazegen.runtime.documents._task import task_spec
 from mazegen.spec import Point, Spec, task_point_problem
@@ -35,48 +35,6 @@ MAX_CELLS_PER_SIDE = 1024
 
 WALL = "wall"
 """The one element type of an imported floor."""
-
-Cells = tuple[int, int, int, int]
-"""A rectangle of cells: first row, last row, first column, last column (row 0 the lowest)."""
-
-
-def wall_rectangles(occupied: np.ndarray) -> list[Cells]:
-    """Disjoint rectangles that together are exactly the ``True`` cells, few of them.
-
-    Row by row from the bottom, each run of cells not yet covered grows upwards while the row above
-    holds the same columns uncovered: a wall of equal rows is one rectangle.
-    """
-    left = occupied.copy()
-    rectangles = []
-    for row in range(left.shape[0]):
-        line = np.concatenate(([False], left[row], [False]))
-        edges = np.flatnonzero(line[1:] != line[:-1])
-        for first, end in zip(edges[::2].tolist(), edges[1::2].tolist()):
-            top = row
-            while top + 1 < left.shape[0] and left[top + 1, first:end].all():
-                top += 1
-            left[row : top + 1, first:end] = False
-            rectangles.append((row, top, first, end - 1))
-    return rectangles
-
-
-def _near(occupied: np.ndarray, radius_cells: float, *, squares: bool = False) -> np.ndarray:
-    """Cells with an obstacle cell's centre within ``radius_cells`` of theirs, the engine's disc
-    (``Grid.from_arena``): ``dy`` rows away, ``floor(sqrt(r^2 - dy^2))`` columns either side. With
-    ``squares``, an obstacle cell's square instead of its centre, touching included: where a disc of
-    that radius on the cell's centre touches an obstacle, as the simulator's exact geometry finds."""
-    rows, cols = occupied.shape
-    counts = np.pad(np.cumsum(occupied, axis=1), ((0, 0), (1, 0)))
-    near = np.zeros_like(occupied)
-    half = 0.5 if squares else 0.0
-    for dy in range(min(int(radius_cells + half + 1e-9), rows - 1) + 1):
-        gap = max(dy - half, 0.0)
-        span = int(np.floor(half + np.sqrt(max(radius_cells**2 - gap * gap, 0.0)) + 1e-9))
-        low, high = np.maximum(np.arange(cols) - span, 0), np.minimum(np.arange(cols) + span + 1, cols)
-        across = counts[:, high] > counts[:, low]  # an obstacle within span columns, in the same row
-        near[dy:] |= across[: rows - dy]
-        near[: rows - dy] |= across[dy:]
-    return near
 
 
 @dataclass(frozen=True)
@@ -124,7 +82,7 @@ class ImportedMap:
         """``bool[rows, cols]``: cells where the robot's centre may stand, as the engine decides it: no
         obstacle cell's centre within the radius of its centre, and no closer to the arena's edge."""
         rows, cols = self.map.occupied.shape
-        blocked = _near(self.map.occupied, self.robot_radius / self.map.resolution)
+        blocked = near_cells(self.map.occupied, self.robot_radius / self.map.resolution)
         centres_x = (np.arange(cols) + 0.5) * self.map.resolution
         centres_y = (np.arange(rows) + 0.5) * self.map.resolution
         width, height = self.size
@@ -138,7 +96,7 @@ class ImportedMap:
         """``bool[rows, cols]``: cells of :attr:`robot_free` whose centre keeps the robot's disc off every
         obstacle cell and the edge, touching none: where a drawn task's robot starts and stops (the
         simulator decides contact on the walls' exact shapes, not on their cells' centres)."""
-        touching = _near(self.map.occupied, self.robot_radius / self.map.resolution, squares=True)
+        touching = near_cells(self.map.occupied, self.robot_radius / self.map.resolution, squares=True)
         return self.robot_free & ~touching
 
     def arena_point(self, point: Point) -> Point:

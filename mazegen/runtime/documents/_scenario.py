@@ -18,11 +18,12 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.fitness_terms import reads_survey
+from mazegen.maps import base_digest
 from mazegen.runtime.documents._scenario_rules import check_document, read_json
 from mazegen.runtime.engine import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.runtime.geometry import ElementTable, world_vertices
 from mazegen.runtime.navigation import corner_paths_of, survey_of
-from mazegen.spec import Spec
+from mazegen.spec import BaseMap, Spec
 
 FORMAT = "mazegen-scenario"
 VERSION = 1
@@ -44,6 +45,21 @@ def arena_document(spec: Spec) -> dict[str, Any]:
         "start": list(a.start),
         "goal": list(a.goal),
         "robot_radius": a.robot_radius,
+        **({} if a.base is None else {"map": map_document(a.base)}),
+    }
+
+
+def map_document(base: BaseMap) -> dict[str, Any]:
+    """The ``map`` of a document's ``arena``: which map the floor is built on. Its cells are the spec's
+    (a run's ``spec.json``), not repeated in every document; ``cells`` tells one map's from another's."""
+    return {
+        "source": base.source,
+        "resolution": base.resolution,
+        "rows": base.rows,
+        "cols": base.cols,
+        "origin": list(base.origin),
+        "unknown": base.unknown,
+        "cells": base_digest(base),
     }
 
 

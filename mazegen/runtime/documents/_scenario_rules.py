@@ -22,6 +22,7 @@ from typing import Any, NoReturn
 
 from mazegen.errors import MazeError
 from mazegen.fileio import read_bytes
+from mazegen.maps import UNKNOWN
 
 MAX_FILE_BYTES = 64 * 2**20
 """Largest scenario file read (64 MiB): a floor of :data:`MAX_ELEMENTS` elements is far smaller."""
@@ -136,6 +137,17 @@ DOCUMENT = Fields(
                 "start": POINT,
                 "goal": POINT,
                 "robot_radius": Number(low=0, high=MAX_DOCUMENT_LENGTH),
+                "map": Fields(
+                    {
+                        "source": Text(longest=4096),
+                        "resolution": Number(low=0, low_open=True),
+                        "rows": Number(low=1, integer=True),
+                        "cols": Number(low=1, integer=True),
+                        "origin": Items(Number(), least=2, most=2),
+                        "unknown": Text(choices=UNKNOWN),
+                        "cells": Text(pattern="^[0-9a-f]{16}$", longest=16, meaning="16 hex digits"),
+                    }
+                ),
             }
         ),
         "elements": Items(

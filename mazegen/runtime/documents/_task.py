@@ -13,6 +13,7 @@ import dataclasses
 from typing import Any
 
 from mazegen.errors import MazeError
+from mazegen.maps import point_on_walls
 from mazegen.runtime.documents._scenario import arena_document
 from mazegen.spec import Arena, Point, Spec, task_point_problem
 from mazegen.text import printable, quoted
@@ -42,6 +43,8 @@ def document_arena(spec: Spec, document: dict[str, Any], filename: str) -> Arena
             raise MazeError(f"arena: '{label}' must be an [x, y] point", filename=filename)
         point = (float(value[0]), float(value[1]))
         problem = task_point_problem(label, point, arena.width, arena.height, arena.robot_radius)
+        if problem is None and arena.base is not None:
+            problem = point_on_walls(arena.base, label, point, arena.robot_radius)
         if problem is not None:
             raise MazeError(problem, filename=filename)
         points[label] = point
@@ -56,6 +59,10 @@ def task_spec(spec: Spec, document: dict[str, Any], filename: str) -> Spec:
 
 
 def _shown(value: Any) -> str:
+    if isinstance(value, dict):  # a map: its file and cells
+        return f"{quoted(str(value.get('source')))} (cells {value.get('cells')})"
+    if value is None:
+        return "none"
     return quoted(value) if isinstance(value, str) else f"{value:g}"
 
 
@@ -63,6 +70,9 @@ def arena_differences(spec: Spec, recorded: dict[str, Any]) -> list[str]:
     """What the fields ``recorded`` (a document's ``arena``) gives say otherwise than ``spec``, start and
     goal aside: ``width 1400 in the spec, 1500 in the scenario``, one entry per field."""
     expected = arena_document(spec)
+    if "map" in expected or "map" in recorded:  # a floor on a map is not one on another map, or on none
+        expected.setdefault("map", None)
+        recorded = {**recorded, "map": recorded.get("map")}
     return [
         f"{key} {_shown(expected[key])} in the spec, {_shown(recorded[key])} in the scenario"
         for key in expected

@@ -13,6 +13,7 @@ if TYPE_CHECKING:
     from mazegen.runtime.geometry._cspace import (
         Grid,
         cspace,
+        elements_on_walls,
         grid_args,
         grid_of,
         is_free,
@@ -66,6 +67,7 @@ __all__ = [
     "cspace",
     "decompose",
     "element_bounds",
+    "elements_on_walls",
     "elements_outside",
     "grid_args",
     "grid_of",
@@ -93,6 +95,7 @@ __getattr__ = lazy_names(
         "_bits": ["is_set", "ONE"],
         "_cspace": [
             "cspace",
+            "elements_on_walls",
             "Grid",
             "grid_args",
             "grid_of",

@@ -21,8 +21,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.maps import base_on_grid, near_cells
 from mazegen.runtime.geometry._bits import HIGH, ONE, is_set, popcount, set_block
-from mazegen.runtime.geometry._elements import world_element
+from mazegen.runtime.geometry._elements import ElementTable, population_arrays, world_element
+from mazegen.runtime.threads import in_blocks
 
 if TYPE_CHECKING:
     from mazegen.spec import Arena
@@ -46,6 +48,8 @@ class Grid:
             edge rule blocks it (a coarse grid puts its centre too near a wall), the
             nearest cell the edge rule leaves free.
         goal_cell: The same for the goal.
+        base: ``uint64[rows, words]``: the cells an arena's base map blocks (its walls, before the
+            robot's disc widens them into ``border``), all clear without a map.
     """
 
     cell: float
@@ -58,6 +62,7 @@ class Grid:
     goal: tuple[float, float]
     start_cell: tuple[int, int]
     goal_cell: tuple[int, int]
+    base: np.ndarray
 
     @classmethod
     def from_arena(cls, arena: Arena) -> Grid:
@@ -77,15 +82,34 @@ class Grid:
         bad_col = (centres_x < r) | (centres_x > arena.width - r)
         bad_row = (centres_y < r) | (centres_y > arena.height - r)
         blocked = bad_row[:, None] | bad_col[None, :]
-        padded = np.ones((rows, words * 64), dtype=bool)
-        padded[:, :cols] = blocked
-        weights = (ONE << np.arange(64, dtype=np.uint64)).astype(np.uint64)
-        border = (padded.reshape(rows, words, 64).astype(np.uint64) * weights).sum(axis=2, dtype=np.uint64)
+        walls = np.zeros((rows, cols), dtype=bool)
+        if arena.base is not None:  # the map's walls, widened by the robot's disc as elements are
+            walls = base_on_grid(arena.base, cell, rows, cols)
+            blocked |= near_cells(walls, reach)
         start, goal = arena.start, arena.goal
         ends = tuple(_end_cell(point, cell, centres_x, centres_y, blocked) for point in (start, goal))
         return cls(
-            cell, rows, cols, words, spans, border, (start[0], start[1]), (goal[0], goal[1]), ends[0], ends[1]
+            cell,
+            rows,
+            cols,
+            words,
+            spans,
+            _bit_rows(blocked, words, pad=True),
+            (start[0], start[1]),
+            (goal[0], goal[1]),
+            ends[0],
+            ends[1],
+            _bit_rows(walls, words, pad=False),
         )
+
+
+def _bit_rows(cells: np.ndarray, words: int, *, pad: bool) -> np.ndarray:
+    """``uint64[rows, words]`` of ``bool[rows, cols]``; the bits past ``cols`` set when ``pad``."""
+    rows, cols = cells.shape
+    padded = np.full((rows, words * 64), pad, dtype=bool)
+    padded[:, :cols] = cells
+    weights = (ONE << np.arange(64, dtype=np.uint64)).astype(np.uint64)
+    return (padded.reshape(rows, words, 64).astype(np.uint64) * weights).sum(axis=2, dtype=np.uint64)
 
 
 def _end_cell(
@@ -303,3 +327,58 @@ def straight_free(free, cols, cell, points):  # pragma: no cover - compiled
             next_c += delta_c
             next_r += delta_r
     return False
+
+
+def elements_on_walls(
+    table: ElementTable,
+    element_ids: np.ndarray,
+    n_elements: np.ndarray,
+    params: np.ndarray,
+    grid: Grid,
+    size: tuple[float, float],
+) -> np.ndarray:
+    """Count, per individual, the elements inside the arena's rectangle that touch a cell of its base
+    map's walls (``grid.base``; the cells an element touches, as the configuration space marks them).
+    ``size`` is the arena's width and height: an element outside it is counted by
+    :func:`~mazegen.runtime.geometry._overlap.elements_outside`, not here.
+
+    Returns:
+        int32[N] element counts (all 0 for an arena without a map).
+    """
+    ids, n_el, prm = population_arrays(table, element_ids, n_elements, params)
+    out = np.zeros(ids.shape[0], np.int32)
+    if ids.shape[0] and grid.base.any():
+        width, height = float(size[0]), float(size[1])
+        args = (table.shapes, ids, n_el, prm, grid_args(grid), grid.base, width, height, out)
+        in_blocks(_walls_kernel, ids.shape[0], *args)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _walls_kernel(
+    first, last, shapes, ids, n_el, params, grid, base, width, height, out
+):  # pragma: no cover - compiled
+    n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
+    cell, rows, cols = grid[0], grid[1], grid[2]
+    wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
+    pbox = np.empty((1, unit.shape[1], 4))
+    ebox = np.empty((1, 4))
+    marked = np.zeros_like(base)
+    for i in range(first, last):
+        count = 0
+        for k in range(n_el[i]):
+            e = ids[i, k]
+            world_element(shapes, e, params[i, k], wv, pbox, ebox, 0)
+            if ebox[0, 0] < 0.0 or ebox[0, 1] < 0.0 or ebox[0, 2] > width or ebox[0, 3] > height:
+                continue  # outside the rectangle: counted as such
+            for p in range(n_parts[e]):
+                _mark_part(wv, 0, p, n_vertices[e, p], pbox[0, p], cell, rows, cols, marked)
+            touches = False
+            for r in range(
+                max(math.floor(ebox[0, 1] / cell), 0), min(math.floor(ebox[0, 3] / cell), rows - 1) + 1
+            ):
+                for w in range(base.shape[1]):
+                    touches |= (marked[r, w] & base[r, w]) != 0
+                    marked[r, w] = 0
+            count += touches
+        out[i] = count

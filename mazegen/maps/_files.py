@@ -3,7 +3,7 @@
 
 Each reader returns plain values and raises a one-line :class:`~mazegen.errors.MazeError` naming the
 file (and its line where it has lines); what the values mean is
-:mod:`~mazegen.runtime.documents._occupancy_maps`' business.
+:mod:`~mazegen.maps._occupancy`' business.
 """
 
 from __future__ import annotations

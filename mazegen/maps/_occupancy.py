@@ -18,7 +18,7 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.runtime.documents._map_files import (
+from mazegen.maps._files import (
     read_cell_array,
     read_cell_text,
     read_image,
@@ -54,6 +54,8 @@ class OccupancyMap:
         origin: The source frame's (x, y) of the lower-left corner of cell (0, 0), metres.
         frame: The source frame, for messages and notes (``map``, ``Gazebo``).
         task: The source's own start and goal in its frame, when it has one (BARN's).
+        unknown: ``bool[rows, cols]``: the cells of ``occupied`` the source marks unknown rather than
+            occupied (map_server's), or ``None`` when it knows every cell.
     """
 
     name: str
@@ -62,6 +64,7 @@ class OccupancyMap:
     origin: Point
     frame: str
     task: tuple[Point, Point] | None = None
+    unknown: np.ndarray | None = None
 
 
 def scenario_name(stem: str) -> str:
@@ -143,7 +146,7 @@ def _map_server_map(path: Path) -> OccupancyMap:
     negate = _required(values, "negate", path)
     if negate not in (0, 1):  # True and False too
         raise MazeError(f"'negate' must be 0 or 1, got {negate}", filename=str(path))
-    _threshold(values, "occupied_thresh", path)  # checked only: occupied and unknown are obstacles alike
+    occupied_thresh = _threshold(values, "occupied_thresh", path)
     free_thresh = _threshold(values, "free_thresh", path)
     mode = values.get("mode", "trinary")
     if mode not in MODES:
@@ -154,14 +157,25 @@ def _map_server_map(path: Path) -> OccupancyMap:
     else:
         pixels, alpha, maxval = read_image(image_path)
     shade = pixels / maxval
-    if mode == "raw":  # the pixel is the occupancy in percent; negate does not apply
-        free = np.rint(shade * 255) == 0
+    if mode == "raw":  # the pixel is the occupancy in percent, 255 unknown; negate does not apply
+        value = np.rint(shade * 255)
+        free, unknown = value == 0, value == 255
     else:
         occupancy = shade if negate else 1.0 - shade
         free = occupancy < free_thresh
-        if mode == "scale" and alpha is not None:
-            free &= alpha >= 1.0  # a transparent pixel is unknown
-    return OccupancyMap(scenario_name(path.stem), ~free[::-1], resolution, (origin[0], origin[1]), "map")
+        if mode == "trinary":  # neither free nor above occupied_thresh: unknown
+            unknown = ~free & (occupancy <= occupied_thresh)
+        else:  # scale: values between the thresholds are costs, a transparent pixel is unknown
+            unknown = np.zeros_like(free) if alpha is None else alpha < 1.0
+            free &= ~unknown
+    return OccupancyMap(
+        scenario_name(path.stem),
+        ~free[::-1],
+        resolution,
+        (origin[0], origin[1]),
+        "map",
+        unknown=unknown[::-1].copy(),
+    )
 
 
 def _barn_world(path: Path, world: int | None) -> OccupancyMap:
