@@ -20,12 +20,34 @@ def spec(*, arena: str = ARENA, element: str = ELEMENT, scenario: str = SCENARIO
     return element + arena + scenario + tail
 
 
+def _hall_pgm() -> str:
+    """A 20 x 16 map of 0.1 m cells: walls around (0), free inside (254)."""
+    rows = [" ".join("0" if r in (0, 15) or c in (0, 19) else "254" for c in range(20)) for r in range(16)]
+    return "P2\n20 16\n255\n" + "\n".join(rows) + "\n"
+
+
+HALL_YAML = (
+    "image: hall.pgm\nresolution: 0.1\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n"
+    "occupied_thresh: 0.65\nfree_thresh: 0.196\n"
+)
+
 PLUGIN_FILES = {
     "dock.py": "def dock_clearance(floors, x=0.0, y=0.0):\n    return floors.x[:, 0]\n",
     "broken.py": "def dock_clearance(floors)\n    return 0\n",
     "failing.py": "1 / 0\n\ndef dock_clearance(floors):\n    return 0\n",
+    "hall.pgm": _hall_pgm(),
+    "hall.yaml": HALL_YAML,
+    "noresolution.yaml": HALL_YAML.replace("resolution: 0.1\n", ""),
+    "short.yaml": HALL_YAML.replace("hall.pgm", "short.pgm"),
+    "short.pgm": "P2\n20 16\n255\n0 0 0\n",
 }
-"""Metric plug-in files beside every spec of the table."""
+"""Metric plug-in and map files beside every spec of the table."""
+
+
+def hall(properties: str = 'map "hall.yaml" cm', *, start: str = "(50, 50)") -> str:
+    """An arena on the map hall.yaml (200 x 160 cm)."""
+    return f"arena floor {{ {properties} start {start} goal (150, 110) robot radius 20 }}\n"
+
 
 # (name, text, expected line:col, expected message fragment)
 BAD_SPECS = [
@@ -802,6 +824,61 @@ BAD_SPECS = [
         spec(tail='fitness { metric dock_clearance(x=1, x=2) from "dock.py" }\n'),
         "4:38",
         "metric 'dock_clearance': argument 'x' given twice",
+    ),
+    (
+        "map: no such file",
+        spec(arena=hall('map "nohall.yaml"')),
+        "2:15",
+        "no map file 'nohall.yaml' (looked for ",
+    ),
+    (
+        "map: and a size",
+        spec(arena=hall('map "hall.yaml" size 200 x 160 cm')),
+        "2:31",
+        "an arena built on a map takes its size from the map: remove 'size'",
+    ),
+    (
+        "map: unknown cells said of an arena without a map",
+        spec(arena=ARENA.replace("{ ", "{ unknown free ")),
+        "2:15",
+        "'unknown' says what a map's unknown cells are, and this arena has no map",
+    ),
+    (
+        "map: in pixels",
+        spec(arena=hall('map "hall.yaml" px')),
+        "2:15",
+        "a map's cells are in metres: give its arena in mm, cm or m (map 'hall.yaml' cm)",
+    ),
+    (
+        "map: an image, not its YAML",
+        spec(arena=hall('map "hall.pgm"')),
+        "2:15",
+        "map 'hall.pgm': give a ROS map_server map's .yaml (its image beside it)",
+    ),
+    (
+        "map: its YAML lacks a key",
+        spec(arena=hall('map "noresolution.yaml" cm')),
+        "2:15",
+        "map 'noresolution.yaml': noresolution.yaml: the map has no 'resolution'",
+    ),
+    (
+        "map: its image is short",
+        spec(arena=hall('map "short.yaml" cm')),
+        "2:15",
+        "map 'short.yaml': short.pgm: image size mismatch: the header says 20 x 16 = 320 pixels, "
+        "the file holds 3",
+    ),
+    (
+        "map: a start on its walls",
+        spec(arena=hall(start="(25, 50)")),
+        "2:40",
+        "start (25, 50) is on the map's walls or closer to them than the robot radius 20",
+    ),
+    (
+        "map: a start beyond it",
+        spec(arena=hall(start="(250, 50)")),
+        "2:40",
+        "start (250, 50) is outside the arena 200 x 160",
     ),
     (
         "metric plug-in: a negative penalty",

@@ -148,6 +148,7 @@ def grid_args(grid: Grid) -> tuple:
         grid.border,
         np.array([*grid.start, *grid.goal], dtype=np.float64),
         np.array([sr, sc, gr, gc], dtype=np.int64),
+        grid.base,
     )
 
 
@@ -181,7 +182,8 @@ def raster_arrays(grid, slots, parts, vertices):  # pragma: no cover - compiled
 
 @njit(cache=True)
 def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover - compiled
-    """Free configuration-space cells of one individual, as bit rows in ``free``.
+    """Free configuration-space cells of one individual, as bit rows in ``free``; the occupied cells
+    (its elements' and the base map's walls) are left in the first rows of ``raster``.
 
     Returns the number of cells the elements occupy (before the dilation).
     """
@@ -202,6 +204,11 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
     occupied_cells = 0
     for i in range(inside.shape[0]):
         occupied_cells += popcount(inside[i])
+    # The base map's walls are occupied too (for the fields read off this raster), though not counted.
+    base = grid[7]
+    for r in range(rows):
+        for w in range(words):
+            occupied[r, w] |= base[r, w]
     # Disc dilation: the occupancy widened by the disc's half-width dy rows away, shifted dy rows.
     for width in range(1, widened.shape[0]):
         _widen_flat(widened[width - 1], widened[width])
@@ -349,17 +356,17 @@ def elements_on_walls(
     out = np.zeros(ids.shape[0], np.int32)
     if ids.shape[0] and grid.base.any():
         width, height = float(size[0]), float(size[1])
-        args = (table.shapes, ids, n_el, prm, grid_args(grid), grid.base, width, height, out)
+        args = (table.shapes, ids, n_el, prm, grid_args(grid), width, height, out)
         in_blocks(_walls_kernel, ids.shape[0], *args)
     return out
 
 
 @njit(cache=True, nogil=True)
 def _walls_kernel(
-    first, last, shapes, ids, n_el, params, grid, base, width, height, out
+    first, last, shapes, ids, n_el, params, grid, width, height, out
 ):  # pragma: no cover - compiled
     n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
-    cell, rows, cols = grid[0], grid[1], grid[2]
+    cell, rows, cols, base = grid[0], grid[1], grid[2], grid[7]
     wv = np.empty((1, unit.shape[1], unit.shape[2], 2))
     pbox = np.empty((1, unit.shape[1], 4))
     ebox = np.empty((1, 4))

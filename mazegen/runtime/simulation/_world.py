@@ -13,13 +13,16 @@ each floor's own arena: floors of different arenas drive in one batch (:meth:`Wo
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from numba import njit
 
+from mazegen.maps import base_cells, wall_rectangles
 from mazegen.runtime.engine import Population
 from mazegen.runtime.geometry import world_element
 from mazegen.runtime.threads import in_blocks
+from mazegen.spec import BaseMap
 
 
 @dataclass(frozen=True)
@@ -82,17 +85,26 @@ def stacked(arrays: list[np.ndarray], fill: float) -> np.ndarray:
 
 
 def world_of(population: Population, indices: np.ndarray) -> World:
-    """The parts of individuals ``indices`` of ``population``, in that order."""
+    """The parts of individuals ``indices`` of ``population``, in that order: each floor's elements,
+    then the walls of its arena's base map (:func:`base_walls`)."""
     table = population.table
+    arena = population.arena
+    walls = base_walls(arena.base) if arena.base is not None else np.zeros((0, 4))
     rows = np.ascontiguousarray(indices, np.int64)
     n_el = np.asarray(population.n_elements, np.int64)[rows]
     ids = np.asarray(population.element_ids, np.int64)[rows]
     used = np.arange(ids.shape[1]) < n_el[:, None]
-    parts_per_floor = np.where(used, table.n_parts[np.maximum(ids, 0)], 0).sum(axis=1)
+    parts_per_floor = np.where(used, table.n_parts[np.maximum(ids, 0)], 0).sum(axis=1) + len(walls)
     first = np.concatenate(([0], np.cumsum(parts_per_floor))).astype(np.int64)
-    vertices = np.zeros((first[-1], table.unit.shape[2], 2))
+    vertices = np.zeros((first[-1], max(table.unit.shape[2], 4 if len(walls) else 0), 2))
     count = np.zeros(first[-1], np.int64)
     box = np.zeros((first[-1], 4))
+    if len(walls):  # the last parts of every floor, the same for all
+        at = (first[1:, None] - len(walls) + np.arange(len(walls))).ravel()
+        corners = walls[:, [0, 2, 2, 0, 1, 1, 3, 3]].reshape(-1, 2, 4).transpose(0, 2, 1)
+        vertices[at, :4] = np.tile(corners, (len(rows), 1, 1))
+        count[at] = 4
+        box[at] = np.tile(walls, (len(rows), 1))
     if len(rows):
         params = np.ascontiguousarray(population.params, np.float64)
         element_ids = np.ascontiguousarray(population.element_ids, np.int32)
@@ -110,9 +122,18 @@ def world_of(population: Population, indices: np.ndarray) -> World:
             count,
             box,
         )
-    arena = population.arena
     size = np.tile(np.array([arena.width, arena.height], np.float64), (len(rows), 1))
     return World(first, vertices, count, box, size)
+
+
+@lru_cache(maxsize=16)
+def base_walls(base: BaseMap) -> np.ndarray:
+    """``float64[W, 4]``: the base map's blocked cells merged into rectangles ``(xmin, ymin, xmax, ymax)``,
+    arena units (:func:`mazegen.maps.wall_rectangles`)."""
+    cells = np.array(wall_rectangles(base_cells(base)), dtype=np.float64).reshape(-1, 4)
+    walls = np.stack([cells[:, 2], cells[:, 0], cells[:, 3] + 1, cells[:, 1] + 1], axis=1) * base.resolution
+    walls.flags.writeable = False
+    return walls
 
 
 @njit(cache=True, nogil=True)
