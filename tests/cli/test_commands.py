@@ -212,7 +212,7 @@ def test_a_run_without_a_valid_scenario_says_why_and_fails(tmp_path, write_spec)
     assert lines[:2] == [
         "run 1: no valid scenario; of its final generation's 40 individuals,",
         "  100 % rejected by outside reject: elements not wholly inside the arena "
-        "(are they larger than the arena, or placed beyond it?)",
+        "(larger than it, placed beyond it, or on its map's walls?)",
     ]
     assert lines[2].startswith("run 2: no valid scenario")
     assert result.stderr.splitlines() == ["no run produced a valid scenario (see why above)"]
@@ -229,7 +229,7 @@ def test_a_sweep_without_a_valid_scenario_says_why_and_fails(tmp_path, write_spe
         "blocks-seed1: 1 runs, no valid scenario",
         "  run 1: no valid scenario; of its final generation's 40 individuals,",
         "    100 % rejected by outside reject: elements not wholly inside the arena "
-        "(are they larger than the arena, or placed beyond it?)",
+        "(larger than it, placed beyond it, or on its map's walls?)",
     ]
     assert lines[3] == "blocks-seed2: 1 runs, no valid scenario"
     assert result.stderr.splitlines() == ["no run produced a valid scenario (see why above)"]
