@@ -70,3 +70,15 @@ def test_a_grid_cell_is_blocked_where_a_blocked_cell_overlaps_it(resolution, cel
                 ):
                     expected[gr, gc] = True
     assert (got == expected).all()
+
+
+def test_the_example_hall_is_what_its_script_makes(tmp_path):
+    """examples/maps/hall.pgm and hall.yaml are the output of make_hall.py, byte for byte."""
+    import runpy
+
+    from tests.conftest import EXAMPLES
+
+    make_hall = runpy.run_path(str(EXAMPLES / "maps" / "make_hall.py"))
+    make_hall["write"](tmp_path)
+    for name in ("hall.pgm", "hall.yaml"):
+        assert (tmp_path / name).read_bytes() == (EXAMPLES / "maps" / name).read_bytes(), name
