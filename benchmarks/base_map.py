@@ -32,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 from common import BENCHMARKS, ROOT, markdown_table, median_seconds, write_csv
+from numba import njit
 
 import mazegen
 from mazegen.maps._base import base_cells
@@ -39,14 +40,17 @@ from mazegen.runtime import metrics
 from mazegen.runtime.engine._operators import random_codons, random_genes
 from mazegen.runtime.engine._population import Population
 from mazegen.runtime.engine._problem import Problem, Workspace
-from mazegen.runtime.geometry._cspace import Grid, grid_of, unpack
+from mazegen.runtime.geometry import Grid, cspace, grid_args, grid_of, raster_arrays, straight_free, unpack
 from mazegen.runtime.navigation._connectivity import reach
 from mazegen.runtime.navigation._difficulty import survey
-from mazegen.runtime.threads import thread_count
+from mazegen.runtime.navigation._paths import kernel_args
+from mazegen.runtime.threads import in_blocks, thread_count
 from mazegen.spec import Arena
 
 CELLS, RESOLUTION = 2_000, 0.05
 FREE, OCCUPIED, UNKNOWN = 254, 0, 205
+WARMUP = 3
+"""Untimed calls of each full evaluation (numba compiles on the first; see kernels.py on fresh pages)."""
 ARENAS = {"map": 'map "hall.yaml" m', "empty": "size 100 x 100 m"}
 TERMS = {
     "solvable": "count  overlap penalty 0.5  outside reject  solvable required",
@@ -58,7 +62,14 @@ element box    {{ shape square  size 0.5..1.5 }}
 element wall   {{ shape rect  size 2..8 x 0.1..0.2  rotation 0, 90  class wall }}
 element cobot  {{ shape triangle  size 0.6..1.2  rotation any  class robot }}
 arena hall {{ {arena}  start (2, 2)  goal (98, 98)  robot radius 0.25  grid 0.25 }}
-scenario layout on hall {{ elements rack, box, wall, cobot  max elements 32 }}
+scenario layout on hall {{
+    grammar custom {{
+        <scenario> ::= <group> | <group> <scenario>
+        <group> ::= <element> <element> <element> <element>
+        <element> ::= rack | box | wall | cobot
+    }}
+    max elements 32
+}}
 fitness {{ {terms} }}
 evolution {{ population 5000  generations 15  genome 32  seed 1 }}
 """
@@ -115,7 +126,7 @@ def load_problem(path: Path, folder: Path) -> Problem:
     return Problem.from_build_dir(out)
 
 
-def interleaved(actions: dict[str, Callable[[], object]], repeats: int, warmup: int = 3) -> dict[str, float]:
+def interleaved(actions: dict[str, Callable[[], object]], repeats: int, warmup: int = WARMUP) -> dict:
     """Median seconds of each action, the actions called in turn (order reversed every round)."""
     names = list(actions)
     for _ in range(warmup):
@@ -159,17 +170,42 @@ def evaluations(problems: dict[str, Problem], rows: int, repeats: int) -> tuple[
     return compare("full evaluation", rows, seconds, **shares), {n: e.population for n, e in done.items()}
 
 
+@njit(nogil=True)
+def _cspaces(first, last, shapes, ids, n_el, params, valid, grid, straight):  # pragma: no cover - compiled
+    """The configuration space of individuals ``first`` to ``last - 1`` alone (occupancy, the base's
+    walls ORed in, the disc dilation), as the searches build it; with ``straight[0]`` of size 1, no more,
+    else whether each one's straight start-goal line is free (the searches' first test)."""
+    raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
+    free = np.zeros((grid[1], grid[4].shape[1]), np.uint64)
+    for i in range(first, last):
+        if valid[i]:
+            cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
+            if straight.shape[0] > 1:
+                straight[i] = straight_free(free, grid[2], grid[0], grid[5])
+
+
+def cspaces(pop: Population, *, straight: bool = False) -> np.ndarray:
+    """Build every configuration space of ``pop`` (:func:`_cspaces`); ``straight``: return whether each
+    straight line is free."""
+    out = np.zeros(pop.size if straight else 1, np.bool_)
+    in_blocks(_cspaces, pop.size, *kernel_args(pop), grid_args(grid_of(pop.arena)), out, per_thread=16)
+    return out
+
+
 def parts(pops: dict[str, Population], repeats: int, difficulty: bool) -> list[dict]:
     """Time each costly part of the evaluation alone on the decoded populations ``pops``."""
     found: dict[str, Callable[[Population], object]] = {
         "outside term": metrics.elements_outside,
+        "configuration space": cspaces,
         "solvability (reach)": lambda pop: reach(pop, grid_of(pop.arena)),
     }
     if difficulty:
         found["difficulty (survey)"] = survey
     rows = next(iter(pops.values())).size
+    straight = {f"{name}_straight_pct": 100 * float(cspaces(pop, straight=True).mean()) for name, pop in pops.items()}
     return [
-        compare(what, rows, interleaved({name: partial(part, pop) for name, pop in pops.items()}, repeats))
+        compare(what, rows, interleaved({name: partial(part, pop) for name, pop in pops.items()}, repeats, 1))
+        | (straight if what == "configuration space" else {})
         for what, part in found.items()
     ]
 
@@ -223,6 +259,8 @@ COLUMNS = [
     ("empty_per_s", "empty individuals/s", ",.0f"),
     ("ratio", "map/empty", ".3f"),
     ("overhead_pct", "overhead %", "+.1f"),
+    ("map_straight_pct", "straight line free % map", ".1f"),
+    ("empty_straight_pct", "straight line free % empty", ".1f"),
 ]
 ONE_OFF_COLUMNS = [
     ("arena", "arena", "s"),
@@ -250,7 +288,8 @@ def main() -> None:
     print("\n### One-off per arena (median)\n")
     print(markdown_table(one_off, ONE_OFF_COLUMNS))
     path = BENCHMARKS / "base_map.csv"
-    write_csv(path, timed)  # the first row has every key; the parts leave the shares blank
+    keys = dict.fromkeys(key for row in timed for key in row)
+    write_csv(path, [{key: row.get(key) for key in keys} for row in timed])
     print(f"\nwrote {path.relative_to(ROOT)}; load average {os.getloadavg()[0]:.2f}")
 
 

@@ -194,7 +194,8 @@ _ROWS = (
         function="elements_outside",
         call=lambda term: ("metrics.elements_outside(pop)", "elements not wholly inside the arena"),
         words=lambda term: _penalised("outside", term, allow=True),
-        rejects="elements not wholly inside the arena (larger than it, placed beyond it, or on its map's walls?)",
+        rejects="elements not wholly inside the arena (larger than it, placed beyond it, "
+        "or on its map's walls?)",
     ),
     TermKind(
         kind="solvable",

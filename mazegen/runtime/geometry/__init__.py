@@ -14,6 +14,7 @@ if TYPE_CHECKING:
         Grid,
         cspace,
         elements_on_walls,
+        floor_cells,
         grid_args,
         grid_of,
         is_free,
@@ -69,6 +70,7 @@ __all__ = [
     "element_bounds",
     "elements_on_walls",
     "elements_outside",
+    "floor_cells",
     "grid_args",
     "grid_of",
     "is_free",
@@ -96,6 +98,7 @@ __getattr__ = lazy_names(
         "_cspace": [
             "cspace",
             "elements_on_walls",
+            "floor_cells",
             "Grid",
             "grid_args",
             "grid_of",

@@ -230,6 +230,17 @@ def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover 
 
 
 @njit(cache=True, inline="always")
+def floor_cells(grid):  # pragma: no cover - compiled
+    """Cells of the grid (:func:`grid_args`) that are floor: all but those its base map's walls block."""
+    walls = 0
+    base = grid[7]
+    for r in range(base.shape[0]):
+        for w in range(base.shape[1]):
+            walls += popcount(base[r, w])
+    return grid[1] * grid[2] - walls
+
+
+@njit(cache=True, inline="always")
 def _widen_flat(source, out):  # pragma: no cover - compiled
     """``out`` = ``source`` with every set bit spread one column to each side (one flat bit string)."""
     last = source.shape[0] - 1

@@ -36,7 +36,16 @@ import numpy as np
 from numba import njit
 
 from mazegen.runtime.compiling import inner_kernel
-from mazegen.runtime.geometry import ONE, grid_args, grid_of, is_free, point_grid_of, row_runs_of, run_arrays
+from mazegen.runtime.geometry import (
+    ONE,
+    floor_cells,
+    grid_args,
+    grid_of,
+    is_free,
+    point_grid_of,
+    row_runs_of,
+    run_arrays,
+)
 from mazegen.runtime.navigation._paths import Navigation, kernel_args, route, route_scratch
 from mazegen.runtime.threads import in_blocks
 from mazegen.spec import PATH_METRICS
@@ -189,6 +198,7 @@ def _survey_all(  # pragma: no cover - compiled
 ):
     """Fill the outputs of individuals ``first`` to ``last - 1``."""
     rows, cols = grid[1], grid[2]
+    floor = floor_cells(grid)
     scratch = route_scratch(shapes, ids.shape[1], grid)
     cells = np.zeros((rows * cols, 2), np.int64)  # path_cells stops when it is full
     steps = step_arrays(rows, cols)
@@ -196,7 +206,7 @@ def _survey_all(  # pragma: no cover - compiled
         if not valid[i]:
             continue
         occupied, found, total, turns = route(shapes, ids[i], n_el[i], params[i], grid, scratch)
-        coverage[i] = occupied / (rows * cols)
+        coverage[i] = occupied / floor
         if not found:
             continue
         solvable[i] = True

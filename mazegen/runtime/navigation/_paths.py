@@ -41,6 +41,7 @@ from mazegen.runtime.geometry import (
     Grid,
     cspace,
     decompose,
+    floor_cells,
     grid_args,
     raster_arrays,
     rectangle_arrays,
@@ -171,7 +172,7 @@ def _navigate_all(
     first, last, shapes, ids, n_el, params, valid, grid, solvable, length, coverage
 ):  # pragma: no cover
     """Fill ``solvable``, ``length`` and ``coverage`` of individuals ``first`` to ``last - 1``."""
-    cells = grid[1] * grid[2]
+    cells = floor_cells(grid)
     scratch = route_scratch(shapes, ids.shape[1], grid)
     for i in range(first, last):
         if not valid[i]:
