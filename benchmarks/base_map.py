@@ -1,22 +1,22 @@
 """Static evaluation on a 2,000 × 2,000-cell base map against an empty arena of the same size (issue 28).
 
 Usage:
-    python benchmarks/base_map.py                 # populations 1,000 and 5,000, median of 9 (~3 min)
+    python benchmarks/base_map.py                 # populations 1,000 and 5,000, median of 9 (~6 min)
     python benchmarks/base_map.py --repeats 7 --populations 1000
 
-Writes, in a temporary folder, a map_server map of 2,000 × 2,000 cells at 5 cm (100 × 100 m: outer
-walls with unknown cells outside them, a lattice of pillars, two long internal walls and a cross wall
-with doors, rows of shelving) and specs that differ only in their arena: ``map "hall.yaml" m`` or
-``size 100 x 100 m``, with the same start, goal, robot radius and grid (25 cm: 400 × 400 cells), the
-same elements (in metres) and the same fitness, ``outside reject`` in both, in two variants: ``solvable``
-(count, overlap, outside, solvable) and ``difficulty`` (the same plus ``difficulty target medium``).
+Writes, in a temporary folder, two map_server maps of 2,000 × 2,000 cells at 5 cm (100 × 100 m): ``hall``
+(outer walls with unknown cells outside them, a lattice of pillars, long internal walls with doors,
+shelving) and ``bare`` (its outer walls alone); and specs identical but for the arena (``map "hall.yaml"
+m``, ``map "bare.yaml" m`` or ``size 100 x 100 m``; the same start, goal, robot radius and 25 cm grid,
+400 × 400 cells), with their elements in metres and ``outside reject`` in every fitness, in two variants:
+``solvable`` (count, overlap, outside, solvable) and ``difficulty`` (the same plus a difficulty target).
 
-Per variant and population, the same random genomes are evaluated (mapping, decoding, every fitness term,
-into a kept workspace, all threads) on both arenas, A and B interleaved and their order alternated so
-machine noise hits both, after three untimed calls each. Then, on the largest population decoded once,
-each costly part alone (the outside term, the solvability search, the difficulty survey), and the
-one-off costs per arena: loading the spec (reading the map) and building the navigation grid. Prints
-Markdown tables and writes ``benchmarks/base_map.csv``.
+The same random genomes are evaluated on every arena (mapping, decoding, every term, into a kept
+workspace, all threads), the arenas interleaved and their order reversed every round, after three untimed
+calls each; medians of wall and CPU time. Then, on the largest population, the parts of the evaluation a
+map touches, each alone (the outside term, the configuration space, the solvability search); and the
+one-off costs per arena: loading the spec (reading the map) and building the grid. Prints Markdown
+tables and writes ``benchmarks/base_map.csv``.
 """
 
 from __future__ import annotations
@@ -42,16 +42,14 @@ from mazegen.runtime.engine._population import Population
 from mazegen.runtime.engine._problem import Problem, Workspace
 from mazegen.runtime.geometry import Grid, cspace, grid_args, grid_of, raster_arrays, straight_free, unpack
 from mazegen.runtime.navigation._connectivity import reach
-from mazegen.runtime.navigation._difficulty import survey
 from mazegen.runtime.navigation._paths import kernel_args
 from mazegen.runtime.threads import in_blocks, thread_count
 from mazegen.spec import Arena
 
 CELLS, RESOLUTION = 2_000, 0.05
 FREE, OCCUPIED, UNKNOWN = 254, 0, 205
-WARMUP = 3
-"""Untimed calls of each full evaluation (numba compiles on the first; see kernels.py on fresh pages)."""
-ARENAS = {"map": 'map "hall.yaml" m', "empty": "size 100 x 100 m"}
+WARMUP = 3  # untimed calls of each full evaluation: numba compiles on the first; kernels.py on fresh pages
+ARENAS = {"hall": 'map "hall.yaml" m', "bare": 'map "bare.yaml" m', "empty": "size 100 x 100 m"}
 TERMS = {
     "solvable": "count  overlap penalty 0.5  outside reject  solvable required",
     "difficulty": "count  overlap penalty 0.5  outside reject  solvable required  difficulty target medium",
@@ -75,8 +73,9 @@ evolution {{ population 5000  generations 15  genome 32  seed 1 }}
 """
 
 
-def hall_pixels() -> np.ndarray:
-    """The map's pixels, top row first: a hall of 97.6 × 97.6 m in 100 × 100 m, unknown outside."""
+def hall_pixels(*, interior: bool) -> np.ndarray:
+    """The map's pixels, top row first: a hall of 97.6 × 97.6 m in 100 × 100 m, unknown outside;
+    ``interior``: pillars, internal walls with doors and shelving (else the bare outer walls)."""
 
     def at(metres: float) -> int:
         return round(metres / RESOLUTION)
@@ -89,28 +88,31 @@ def hall_pixels() -> np.ndarray:
     block(0, 0, 100, 100, UNKNOWN)  # outside the hall: never seen by the mapping robot
     block(1.0, 1.0, 99.0, 99.0)  # the outer walls, 20 cm thick
     block(1.2, 1.2, 98.8, 98.8, FREE)
-    for x in range(10, 100, 10):  # pillars of 40 cm every 10 m
-        for y in range(10, 100, 10):
-            block(x - 0.2, y - 0.2, x + 0.2, y + 0.2)
-    for x, doors in ((33.0, (15, 50, 85)), (66.0, (30, 70))):  # long walls north-south, doors of 2 m
-        block(x, 1.2, x + 0.2, 98.8)
-        for y in doors:
-            block(x, y - 1, x + 0.2, y + 1, FREE)
-    block(66.2, 45.0, 98.8, 45.2)  # a cross wall east of the second, two doors
-    for x in (75, 92):
-        block(x - 1, 45.0, x + 1, 45.2, FREE)
-    for y in range(62, 92, 5):  # shelving in the west aisle: 20 × 1 m racks, 4 m aisles
-        block(5.0, y, 25.0, y + 1.0)
+    if interior:
+        for x in range(10, 100, 10):  # pillars of 40 cm every 10 m
+            for y in range(10, 100, 10):
+                block(x - 0.2, y - 0.2, x + 0.2, y + 0.2)
+        for x, doors in ((33.0, (15, 50, 85)), (66.0, (30, 70))):  # long walls north-south, doors of 2 m
+            block(x, 1.2, x + 0.2, 98.8)
+            for y in doors:
+                block(x, y - 1, x + 0.2, y + 1, FREE)
+        block(66.2, 45.0, 98.8, 45.2)  # a cross wall east of the second, two doors
+        for x in (75, 92):
+            block(x - 1, 45.0, x + 1, 45.2, FREE)
+        for y in range(62, 92, 5):  # shelving in the west aisle: 20 × 1 m racks, 4 m aisles
+            block(5.0, y, 25.0, y + 1.0)
     return np.flipud(cells)
 
 
 def write_specs(folder: Path) -> dict[tuple[str, str], Path]:
-    """The map (binary PGM and YAML) and a spec per (variant, arena) in ``folder``."""
-    (folder / "hall.pgm").write_bytes(f"P5\n{CELLS} {CELLS}\n255\n".encode() + hall_pixels().tobytes())
-    (folder / "hall.yaml").write_text(
-        f"image: hall.pgm\nmode: trinary\nresolution: {RESOLUTION}\norigin: [0.0, 0.0, 0.0]\n"
-        "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
-    )
+    """The maps (binary PGM and YAML) and a spec per (variant, arena) in ``folder``."""
+    for name, interior in (("hall", True), ("bare", False)):
+        pixels = hall_pixels(interior=interior).tobytes()
+        (folder / f"{name}.pgm").write_bytes(f"P5\n{CELLS} {CELLS}\n255\n".encode() + pixels)
+        (folder / f"{name}.yaml").write_text(
+            f"image: {name}.pgm\nmode: trinary\nresolution: {RESOLUTION}\norigin: [0.0, 0.0, 0.0]\n"
+            "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
+        )
     paths = {}
     for variant, terms in TERMS.items():
         for name, arena in ARENAS.items():
@@ -119,61 +121,60 @@ def write_specs(folder: Path) -> dict[tuple[str, str], Path]:
     return paths
 
 
-def load_problem(path: Path, folder: Path) -> Problem:
-    """Build the spec at ``path`` into a folder of its own and load it."""
-    out = folder / f"build-{path.stem}"
-    mazegen.build(path, out)
-    return Problem.from_build_dir(out)
-
-
 def interleaved(actions: dict[str, Callable[[], object]], repeats: int, warmup: int = WARMUP) -> dict:
-    """Median seconds of each action, the actions called in turn (order reversed every round)."""
+    """Median wall and CPU seconds of each action (the process's CPU time: all its threads, none of
+    another process's), the actions called in turn, their order reversed every round."""
     names = list(actions)
     for _ in range(warmup):
         for name in names:
             actions[name]()
-    times: dict[str, list[float]] = {name: [] for name in names}
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in names}
     for round_ in range(repeats):
         for name in names if round_ % 2 == 0 else names[::-1]:
-            started = time.perf_counter()
+            wall, cpu = time.perf_counter(), time.process_time()
             actions[name]()
-            times[name].append(time.perf_counter() - started)
-    return {name: statistics.median(values) for name, values in times.items()}
+            times[name].append((time.perf_counter() - wall, time.process_time() - cpu))
+    return {name: tuple(statistics.median(each) for each in zip(*values)) for name, values in times.items()}
 
 
-def compare(what: str, rows: int, seconds: dict[str, float], **extra: object) -> dict:
-    """A row of the table: both arenas' seconds and rates, the ratio map/empty and the overhead."""
-    ratio = seconds["map"] / seconds["empty"]
-    return {
-        "what": what,
-        "individuals": rows,
-        "map_s": seconds["map"],
-        "empty_s": seconds["empty"],
-        "map_per_s": rows / seconds["map"],
-        "empty_per_s": rows / seconds["empty"],
-        "ratio": ratio,
-        "overhead_pct": 100 * (ratio - 1),
-        **extra,
-    }
+def compare(head: dict, rows: int, seconds: dict[str, tuple[float, float]], extra: dict[str, dict]) -> list:
+    """A row per arena: its wall seconds and rate, its ratio to the empty arena and the overhead, in wall
+    and in CPU time."""
+    (empty, empty_cpu) = seconds["empty"]
+    return [
+        {
+            **head,
+            "individuals": rows,
+            "arena": name,
+            **extra.get(name, {}),
+            "s": wall,
+            "per_s": rows / wall,
+            "ratio": wall / empty,
+            "overhead_pct": 100 * (wall / empty - 1),
+            "cpu_s": cpu,
+            "cpu_overhead_pct": 100 * (cpu / empty_cpu - 1),
+        }
+        for name, (wall, cpu) in seconds.items()
+    ]
 
 
-def evaluations(problems: dict[str, Problem], rows: int, repeats: int) -> tuple[dict, dict[str, Population]]:
-    """Time the full evaluation of ``rows`` random genomes on each arena; the row and the populations."""
+def evaluations(problems: dict[str, Problem], rows: int, repeats: int) -> tuple[list[dict], dict]:
+    """Time the full evaluation of ``rows`` random genomes on each arena; the rows and the populations."""
     rng = np.random.default_rng(rows)
-    settings = problems["map"].spec.evolution
+    settings = problems["empty"].spec.evolution
     codons = random_codons(rng, rows, settings.genome, settings.codon_max)
-    genes = random_genes(rng, rows, problems["map"].slots)
+    genes = random_genes(rng, rows, problems["empty"].slots)
     done = {name: problem.evaluate(codons, genes) for name, problem in problems.items()}
-    shares = {f"{name}_valid_pct": 100 * float(np.isfinite(e.fitness).mean()) for name, e in done.items()}
+    extra = {name: {"valid_pct": 100 * float(np.isfinite(e.fitness).mean())} for name, e in done.items()}
     actions = {name: partial(p.evaluate, codons, genes, Workspace()) for name, p in problems.items()}
-    seconds = interleaved(actions, repeats)
-    return compare("full evaluation", rows, seconds, **shares), {n: e.population for n, e in done.items()}
+    rows_ = compare({"timed": "full evaluation"}, rows, interleaved(actions, repeats), extra)
+    return rows_, {name: evaluation.population for name, evaluation in done.items()}
 
 
 @njit(nogil=True)
 def _cspaces(first, last, shapes, ids, n_el, params, valid, grid, straight):  # pragma: no cover - compiled
     """The configuration space of individuals ``first`` to ``last - 1`` alone (occupancy, the base's
-    walls ORed in, the disc dilation), as the searches build it; with ``straight[0]`` of size 1, no more,
+    walls ORed in, the disc dilation), as the searches build it; with ``straight`` of size 1, no more,
     else whether each one's straight start-goal line is free (the searches' first test)."""
     raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
     free = np.zeros((grid[1], grid[4].shape[1]), np.uint64)
@@ -192,22 +193,19 @@ def cspaces(pop: Population, *, straight: bool = False) -> np.ndarray:
     return out
 
 
-def parts(pops: dict[str, Population], repeats: int, difficulty: bool) -> list[dict]:
-    """Time each costly part of the evaluation alone on the decoded populations ``pops``."""
+def parts(pops: dict[str, Population], repeats: int) -> list[dict]:
+    """Time each part of the solvable variant's evaluation that reads the map alone, on ``pops``."""
     found: dict[str, Callable[[Population], object]] = {
         "outside term": metrics.elements_outside,
         "configuration space": cspaces,
         "solvability (reach)": lambda pop: reach(pop, grid_of(pop.arena)),
     }
-    if difficulty:
-        found["difficulty (survey)"] = survey
-    rows = next(iter(pops.values())).size
-    straight = {f"{name}_straight_pct": 100 * float(cspaces(pop, straight=True).mean()) for name, pop in pops.items()}
-    return [
-        compare(what, rows, interleaved({name: partial(part, pop) for name, pop in pops.items()}, repeats, 1))
-        | (straight if what == "configuration space" else {})
-        for what, part in found.items()
-    ]
+    straight = {n: {"straight_pct": 100 * float(cspaces(p, straight=True).mean())} for n, p in pops.items()}
+    rows = []
+    for what, part in found.items():
+        seconds = interleaved({name: partial(part, pop) for name, pop in pops.items()}, repeats, 1)
+        rows += compare({"timed": what}, pops["empty"].size, seconds, straight)
+    return rows
 
 
 def one_off(paths: dict[str, Path], repeats: int) -> list[dict]:
@@ -238,29 +236,33 @@ def measure(folder: Path, populations: list[int], repeats: int) -> tuple[list[di
     paths = write_specs(folder)
     timed = []
     for variant in TERMS:
-        problems = {name: load_problem(paths[variant, name], folder) for name in ARENAS}
+        problems = {}
+        for name in ARENAS:  # each spec built into a folder of its own, and loaded
+            mazegen.build(paths[variant, name], folder / f"build-{variant}-{name}")
+            problems[name] = Problem.from_build_dir(folder / f"build-{variant}-{name}")
         for rows in populations:
-            row, pops = evaluations(problems, rows, repeats)
-            timed.append({"variant": variant, **row})
-            print(f"  {variant:10} {rows:6,} {row['overhead_pct']:+6.1f} %", flush=True)
-        timed += [{"variant": variant, **row} for row in parts(pops, repeats, variant == "difficulty")]
+            found, pops = evaluations(problems, rows, repeats)
+            timed += [{"fitness": variant, **row} for row in found]
+            overheads = ", ".join(f"{row['arena']} {row['overhead_pct']:+.1f} %" for row in found)
+            print(f"  {variant:10} {rows:6,}: {overheads}", flush=True)
+        if variant == "solvable":
+            timed += [{"fitness": variant, **row} for row in parts(pops, repeats)]
     return timed, one_off({name: paths["solvable", name] for name in ARENAS}, repeats)
 
 
 COLUMNS = [
-    ("variant", "fitness", "s"),
-    ("what", "timed", "s"),
+    ("fitness", "fitness", "s"),
+    ("timed", "timed", "s"),
     ("individuals", "individuals", ","),
-    ("map_valid_pct", "valid % map", ".1f"),
-    ("empty_valid_pct", "valid % empty", ".1f"),
-    ("map_s", "map s", ".4f"),
-    ("empty_s", "empty s", ".4f"),
-    ("map_per_s", "map individuals/s", ",.0f"),
-    ("empty_per_s", "empty individuals/s", ",.0f"),
-    ("ratio", "map/empty", ".3f"),
+    ("arena", "arena", "s"),
+    ("valid_pct", "valid %", ".1f"),
+    ("straight_pct", "straight line free %", ".1f"),
+    ("s", "s", ".4f"),
+    ("per_s", "individuals/s", ",.0f"),
+    ("ratio", "× empty", ".3f"),
     ("overhead_pct", "overhead %", "+.1f"),
-    ("map_straight_pct", "straight line free % map", ".1f"),
-    ("empty_straight_pct", "straight line free % empty", ".1f"),
+    ("cpu_s", "CPU s", ".4f"),
+    ("cpu_overhead_pct", "CPU overhead %", "+.1f"),
 ]
 ONE_OFF_COLUMNS = [
     ("arena", "arena", "s"),
@@ -282,11 +284,11 @@ def main() -> None:
         f"load average {os.getloadavg()[0]:.2f}"
     )
     with tempfile.TemporaryDirectory() as folder:
-        timed, one_off = measure(Path(folder), sorted(args.populations), args.repeats)
-    print("\n### Static evaluation, map against empty arena (100 × 100 m, grid 400 × 400)\n")
+        timed, one_off_rows = measure(Path(folder), sorted(args.populations), args.repeats)
+    print("\n### Static evaluation on each arena (100 × 100 m, grid 400 × 400), against the empty one\n")
     print(markdown_table(timed, COLUMNS))
     print("\n### One-off per arena (median)\n")
-    print(markdown_table(one_off, ONE_OFF_COLUMNS))
+    print(markdown_table(one_off_rows, ONE_OFF_COLUMNS))
     path = BENCHMARKS / "base_map.csv"
     keys = dict.fromkeys(key for row in timed for key in row)
     write_csv(path, [{key: row.get(key) for key in keys} for row in timed])

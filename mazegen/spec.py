@@ -98,13 +98,36 @@ class BaseMap:
     blocked: str
 
 
+ZONE_RULES = ("clear", "accepts", "holds")
+"""What a zone says of the elements: none may overlap it (``keep clear``), only the listed types may
+(``accepts``), or the listed types must lie wholly inside it, or inside another zone that holds them
+(``holds``; it accepts them too)."""
+
+
+@dataclass(frozen=True)
+class Zone:
+    """A named area of an arena and its rule for the elements (one of :data:`ZONE_RULES`).
+
+    ``outline`` is the area's polygon (counter-clockwise, arena units) and ``parts`` the convex
+    polygons it is split into (one for a rectangle); ``types`` are the element types ``accepts`` and
+    ``holds`` name.
+    """
+
+    name: str
+    rule: str
+    outline: tuple[Point, ...]
+    parts: tuple[tuple[Point, ...], ...]
+    types: tuple[str, ...] = ()
+
+
 @dataclass(frozen=True)
 class Arena:
     """The floor: a rectangle ``[0, width] x [0, height]`` with a start and goal.
 
     ``grid`` is the cell size of the occupancy grid that solvability and the
     difficulty metrics are computed on, or ``None`` for :attr:`cell`'s default.
-    ``base`` is the map the floor is built on, or ``None`` for an empty rectangle.
+    ``base`` is the map the floor is built on, or ``None`` for an empty rectangle; ``zones`` its named
+    areas.
     """
 
     name: str
@@ -116,6 +139,7 @@ class Arena:
     robot_radius: float
     grid: float | None = None
     base: BaseMap | None = None
+    zones: tuple[Zone, ...] = ()
 
     @property
     def cell(self) -> float:
@@ -506,8 +530,10 @@ class Spec:
                 del term["plugin"]
         if body["robot"] is not None and body["robot"]["contact"] == "end":  # likewise before contacts
             del body["robot"]["contact"]
-        if body["arena"]["base"] is None:  # likewise before base maps
+        if body["arena"]["base"] is None:  # likewise before base maps and zones
             del body["arena"]["base"]
+        if not body["arena"]["zones"]:
+            del body["arena"]["zones"]
         return json.dumps(body, indent=2, sort_keys=True, allow_nan=False) + "\n"
 
     @classmethod
@@ -558,6 +584,16 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         float(a["robot_radius"]),
         None if a.get("grid") is None else float(a["grid"]),
         _base_from_dict(a.get("base")),
+        tuple(
+            Zone(
+                z["name"],
+                z["rule"],
+                _points(z["outline"]),
+                tuple(_points(p) for p in z["parts"]),
+                tuple(z["types"]),
+            )
+            for z in a.get("zones", ())
+        ),
     )
     s = data["scenario"]
     placement = s["placement"]

@@ -9,6 +9,7 @@ from textx import get_location
 
 from mazegen.dsl.bounds import MAX_LENGTH, at_most
 from mazegen.dsl.located import fail, single_properties
+from mazegen.dsl.zones import convert_zones
 from mazegen.errors import MazeError
 from mazegen.maps import point_on_walls, read_base_map
 from mazegen.spec import METRES_PER_UNIT, Arena, BaseMap, task_point_problem
@@ -21,7 +22,8 @@ MAX_GRID_CELLS = 1024
 def convert_arena(decl: Any) -> Arena:
     """Check one ``arena`` block and convert it (reading its map, when it names one)."""
     what = f"arena '{decl.name}'"
-    props = single_properties(decl.properties, what)
+    zone_props = [p for p in decl.properties if type(p).__name__ == "ZoneProperty"]
+    props = single_properties([p for p in decl.properties if p not in zone_props], what)
     if "UnknownCells" in props and "ArenaMap" not in props:
         fail(
             props["UnknownCells"], "'unknown' says what a map's unknown cells are, and this arena has no map"
@@ -71,7 +73,8 @@ def convert_arena(decl: Any) -> Arena:
         )
     if grid is not None and max(width, height) / grid > MAX_GRID_CELLS:
         fail(props["GridProperty"], f"grid cell {grid:g} makes more than {MAX_GRID_CELLS} cells on a side")
-    return Arena(decl.name, width, height, unit, points["start"], points["goal"], radius, grid, base)
+    zones = convert_zones(zone_props, width, height)
+    return Arena(decl.name, width, height, unit, points["start"], points["goal"], radius, grid, base, zones)
 
 
 def _base(prop: Any, unknown: Any) -> BaseMap:

@@ -20,6 +20,7 @@ from mazegen.dsl.located import display_path, fail, where
 from mazegen.dsl.metamodel import metamodel
 from mazegen.dsl.robot import convert_robot
 from mazegen.dsl.syntax_errors import syntax_error
+from mazegen.dsl.zones import check_zone_types
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
 from mazegen.spec import FitnessTerm, Spec
@@ -201,8 +202,10 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
         for element in elements:
             check_fits(element_decls[element.name], element, arena)
     fitness = convert_fitness(singles.get("FitnessDecl"), scenario.elements)
-    if arena.base is not None and not any(term.kind == "outside" for term in fitness):
-        fitness = (*fitness, FitnessTerm("outside", reject=True))  # no element on the map's walls
+    zone_props = [p for p in arena_decls[scenario.arena].properties if type(p).__name__ == "ZoneProperty"]
+    check_zone_types(zone_props, set(element_decls))
+    if (arena.base is not None or arena.zones) and not any(term.kind == "outside" for term in fitness):
+        fitness = (*fitness, FitnessTerm("outside", reject=True))  # elements where the map and zones allow
     robot = convert_robot(singles.get("RobotDecl"), arena, fitness, singles.get("FitnessDecl"))
     return Spec(
         name=scenario.name,

@@ -17,7 +17,7 @@ from mazegen.errors import MazeError
 from mazegen.metric_plugins import metric_function
 from mazegen.runtime import simulation
 from mazegen.runtime.engine import SX, SY, Population
-from mazegen.runtime.geometry import elements_on_walls, grid_of
+from mazegen.runtime.geometry import ZoneArrays, elements_off_zones, elements_on_walls, grid_of
 from mazegen.runtime.geometry import elements_outside as elements_outside_of
 from mazegen.runtime.geometry import overlapping_pairs as overlapping_pairs_of
 from mazegen.runtime.navigation import navigation_of, reach_of, survey_of
@@ -53,13 +53,19 @@ def _count_over_size(params, n_elements, limit):  # pragma: no cover - compiled
 
 
 def elements_outside(pop: Population) -> np.ndarray:
-    """Elements not wholly inside the arena: outside its rectangle, or on its base map's walls."""
+    """Elements not wholly inside the arena: outside its rectangle, on its base map's walls, or where
+    its zones do not let them stand."""
     arena = pop.arena
     arrays = (pop.table, pop.element_ids, pop.n_elements, pop.params)
-    outside = elements_outside_of(*arrays, arena.width, arena.height)
+    size = (arena.width, arena.height)
+    outside = elements_outside_of(*arrays, *size).astype(np.float64)
+    misplaced = np.zeros(pop.element_ids.shape, bool)  # inside the rectangle, where they may not stand
     if arena.base is not None:
-        outside = outside + elements_on_walls(*arrays, grid_of(arena), (arena.width, arena.height))
-    return outside.astype(np.float64)
+        misplaced |= elements_on_walls(*arrays, grid_of(arena), size)
+    if arena.zones:
+        zones = ZoneArrays.of(arena.zones, pop.table.names)
+        misplaced |= elements_off_zones(*arrays, zones, size)
+    return outside + misplaced.sum(axis=1)
 
 
 def unsolvable(pop: Population) -> np.ndarray:

@@ -23,7 +23,7 @@ from mazegen.runtime.documents._scenario_rules import check_document, read_json
 from mazegen.runtime.engine import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.runtime.geometry import ElementTable, world_vertices
 from mazegen.runtime.navigation import corner_paths_of, survey_of
-from mazegen.spec import BaseMap, Spec
+from mazegen.spec import BaseMap, Spec, Zone
 
 FORMAT = "mazegen-scenario"
 VERSION = 1
@@ -46,6 +46,17 @@ def arena_document(spec: Spec) -> dict[str, Any]:
         "goal": list(a.goal),
         "robot_radius": a.robot_radius,
         **({} if a.base is None else {"map": map_document(a.base)}),
+        **({} if not a.zones else {"zones": [zone_document(zone) for zone in a.zones]}),
+    }
+
+
+def zone_document(zone: Zone) -> dict[str, Any]:
+    """One of a document's ``arena.zones``: its name, rule, outline and the types its rule names."""
+    return {
+        "name": zone.name,
+        "rule": zone.rule,
+        "outline": [[_round(x), _round(y)] for x, y in zone.outline],
+        "types": list(zone.types),
     }
 
 

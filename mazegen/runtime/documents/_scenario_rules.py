@@ -23,6 +23,7 @@ from typing import Any, NoReturn
 from mazegen.errors import MazeError
 from mazegen.fileio import read_bytes
 from mazegen.maps import UNKNOWN
+from mazegen.spec import ZONE_RULES
 
 MAX_FILE_BYTES = 64 * 2**20
 """Largest scenario file read (64 MiB): a floor of :data:`MAX_ELEMENTS` elements is far smaller."""
@@ -147,6 +148,16 @@ DOCUMENT = Fields(
                         "unknown": Text(choices=UNKNOWN),
                         "cells": Text(pattern="^[0-9a-f]{16}$", longest=16, meaning="16 hex digits"),
                     }
+                ),
+                "zones": Items(
+                    Fields(
+                        {
+                            "name": Text(),
+                            "rule": Text(choices=ZONE_RULES),
+                            "outline": Items(POINT, least=3),
+                            "types": Items(Text()),
+                        }
+                    )
                 ),
             }
         ),

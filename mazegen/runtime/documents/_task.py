@@ -63,6 +63,8 @@ def _shown(value: Any) -> str:
         return f"{quoted(str(value.get('source')))} (cells {value.get('cells')})"
     if value is None:
         return "none"
+    if isinstance(value, list):  # zones: their names
+        return ", ".join(quoted(str(zone.get("name"))) for zone in value if isinstance(zone, dict)) or "none"
     return quoted(value) if isinstance(value, str) else f"{value:g}"
 
 
@@ -70,10 +72,11 @@ def arena_differences(spec: Spec, recorded: dict[str, Any]) -> list[str]:
     """What the fields ``recorded`` (a document's ``arena``) gives say otherwise than ``spec``, start and
     goal aside: ``width 1400 in the spec, 1500 in the scenario``, one entry per field."""
     expected = arena_document(spec)
-    if ("map" in expected) != ("map" in recorded) and "width" in recorded:
-        # a whole arena written without a map (or with one) was made on none (or on one)
-        expected.setdefault("map", None)
-        recorded = {**recorded, "map": recorded.get("map")}
+    for key in ("map", "zones"):
+        if (key in expected) != (key in recorded) and "width" in recorded:
+            # a whole arena written without a map or zones (or with them) was made with none (or some)
+            expected.setdefault(key, None)
+            recorded = {**recorded, key: recorded.get(key)}
     return [
         f"{key} {_shown(expected[key])} in the spec, {_shown(recorded[key])} in the scenario"
         for key in expected

@@ -89,6 +89,7 @@ class Ranges:
     rot_free: np.ndarray  # bool[E] continuous rotation
     rotations: np.ndarray  # float64[E, R] discrete angles, padded by repetition
     n_rotations: np.ndarray  # int32[E]
+    area: np.ndarray  # float64[E, 4]: (x, y) low and high of positions, the arena or the zones holding it
 
     @classmethod
     def from_spec(cls, spec: Spec) -> Ranges:
@@ -111,7 +112,20 @@ class Ranges:
             rot_free=np.array([t.rotation_range is not None for t in types]),
             rotations=rotations,
             n_rotations=np.array([len(t.rotations) for t in types], dtype=np.int32),
+            area=np.array([_area(spec.arena, t.name) for t in types], dtype=np.float64),
         )
+
+
+def _area(arena: Arena, name: str) -> tuple[float, float, float, float]:
+    """Where elements of type ``name`` are placed: the bounding box of the zones that hold them, or the
+    whole arena (positions drawn elsewhere could only be rejected)."""
+    corners = [
+        point for zone in arena.zones if name in zone.types and zone.rule == "holds" for point in zone.outline
+    ]
+    if not corners:
+        return (0.0, 0.0, arena.width, arena.height)
+    xs, ys = [x for x, _ in corners], [y for _, y in corners]
+    return (min(xs), min(ys), max(xs), max(ys))
 
 
 @njit(cache=True, nogil=True)
@@ -131,8 +145,7 @@ def _placement_kernel(
     rot_free,
     rotations,
     n_rotations,
-    width,
-    height,
+    area,
     grammar_scale,
     out,
 ):  # pragma: no cover
@@ -140,8 +153,8 @@ def _placement_kernel(
         for k in range(n_elements[i]):
             e = ids[i, k]
             g = genes[i, k]
-            x = width * (g[0] / GENE_MAX)
-            y = height * (g[1] / GENE_MAX)
+            x = area[e, 0] + (area[e, 2] - area[e, 0]) * (g[0] / GENE_MAX)
+            y = area[e, 1] + (area[e, 3] - area[e, 1]) * (g[1] / GENE_MAX)
             sx = size[e, 0] + (size[e, 1] - size[e, 0]) * (g[2] / GENE_MAX)
             sy = sx if uniform[e] else depth[e, 0] + (depth[e, 1] - depth[e, 0]) * (g[3] / GENE_MAX)
             if rot_free[e]:
@@ -171,7 +184,6 @@ def placement_params(
     mapped: PopulationMap,
     genes: np.ndarray,
     ranges: Ranges,
-    arena: Arena,
     grammar_scale: float | None,
     out: np.ndarray | None = None,
 ) -> np.ndarray:
@@ -182,8 +194,7 @@ def placement_params(
     Args:
         mapped: Result of mapping the structure codons.
         genes: ``uint16[N, K, 5]`` placement genes.
-        ranges: Element ranges.
-        arena: Arena (positions span it).
+        ranges: Element ranges (positions span each type's :attr:`Ranges.area`).
         grammar_scale: Multiplier of grammar size numbers, or ``None`` for gene placement.
         out: A C-contiguous ``float64[N, K, 5]`` array to overwrite instead of a new one.
     """
@@ -207,8 +218,7 @@ def placement_params(
         ranges.rot_free,
         ranges.rotations,
         ranges.n_rotations,
-        float(arena.width),
-        float(arena.height),
+        ranges.area,
         -1.0 if grammar_scale is None else float(grammar_scale),
         params,
     )
@@ -231,7 +241,7 @@ def decode(
     """
     grammar = spec.scenario.placement
     scale = None if grammar is None else grammar.scale
-    placement = partial(placement_params, mapped, genes, ranges, spec.arena, scale, out)
+    placement = partial(placement_params, mapped, genes, ranges, scale, out)
     return Population(
         mapped.element_ids,
         mapped.n_elements,

@@ -50,6 +50,7 @@ if TYPE_CHECKING:
         runs_per_row,
         same_as_below,
     )
+    from mazegen.runtime.geometry._zones import ZoneArrays, elements_off_zones
 
 __all__ = [
     "ABOVE",
@@ -65,9 +66,11 @@ __all__ = [
     "UP_FIRST",
     "ElementTable",
     "Grid",
+    "ZoneArrays",
     "cspace",
     "decompose",
     "element_bounds",
+    "elements_off_zones",
     "elements_on_walls",
     "elements_outside",
     "floor_cells",
@@ -94,6 +97,7 @@ __all__ = [
 __getattr__ = lazy_names(
     __name__,
     {
+        "_zones": ["ZoneArrays", "elements_off_zones"],
         "_bits": ["is_set", "ONE"],
         "_cspace": [
             "cspace",

@@ -355,16 +355,14 @@ def elements_on_walls(
     grid: Grid,
     size: tuple[float, float],
 ) -> np.ndarray:
-    """Count, per individual, the elements inside the arena's rectangle that touch a cell of its base
-    map's walls (``grid.base``; the cells an element touches, as the configuration space marks them).
+    """``bool[N, K]``: which elements inside the arena's rectangle touch a cell of its base map's walls
+    (``grid.base``; the cells an element touches, as the configuration space marks them).
     ``size`` is the arena's width and height: an element outside it is counted by
     :func:`~mazegen.runtime.geometry._overlap.elements_outside`, not here.
 
-    Returns:
-        int32[N] element counts (all 0 for an arena without a map).
     """
     ids, n_el, prm = population_arrays(table, element_ids, n_elements, params)
-    out = np.zeros(ids.shape[0], np.int32)
+    out = np.zeros(ids.shape, np.bool_)
     if ids.shape[0] and grid.base.any():
         width, height = float(size[0]), float(size[1])
         args = (table.shapes, ids, n_el, prm, grid_args(grid), width, height, out)
@@ -383,7 +381,6 @@ def _walls_kernel(
     ebox = np.empty((1, 4))
     marked = np.zeros_like(base)
     for i in range(first, last):
-        count = 0
         for k in range(n_el[i]):
             e = ids[i, k]
             world_element(shapes, e, params[i, k], wv, pbox, ebox, 0)
@@ -398,5 +395,4 @@ def _walls_kernel(
                 for w in range(base.shape[1]):
                     touches |= (marked[r, w] & base[r, w]) != 0
                     marked[r, w] = 0
-            count += touches
-        out[i] = count
+            out[i, k] = touches

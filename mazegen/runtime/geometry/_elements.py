@@ -40,6 +40,7 @@ class ElementTable:
         unit_radius: float64[E], largest ``|u|`` of a type's vertices.
         offset_radius: float64[E], largest ``|o|``; an element lies within
             ``unit_radius · max(sx, sy) + offset_radius`` of its position.
+        names: The types' names (what an arena's zones name them by).
     """
 
     n_parts: np.ndarray
@@ -48,6 +49,7 @@ class ElementTable:
     offset: np.ndarray
     unit_radius: np.ndarray
     offset_radius: np.ndarray
+    names: tuple[str, ...] = ()
 
     @classmethod
     def from_types(cls, types: Sequence[ElementType]) -> ElementTable:
@@ -66,7 +68,8 @@ class ElementTable:
                 offset[e, p, : len(part.offset)] = part.offset
         unit_radius = np.linalg.norm(unit, axis=-1).reshape(len(types), -1).max(axis=1, initial=0.0)
         offset_radius = np.linalg.norm(offset, axis=-1).reshape(len(types), -1).max(axis=1, initial=0.0)
-        return cls(n_parts, n_vertices, unit, offset, unit_radius, offset_radius)
+        names = tuple(t.name for t in types)
+        return cls(n_parts, n_vertices, unit, offset, unit_radius, offset_radius, names)
 
     @property
     def shapes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

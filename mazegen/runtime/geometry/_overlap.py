@@ -110,7 +110,7 @@ def _boxes_meet(box, a, b):
 
 
 @njit(cache=True, inline="always")
-def _edge_separates(wv, ka, pa, na, kb, pb, nb):
+def edge_separates(wv, ka, pa, na, kb, pb, nb):
     """True if some edge line of convex CCW polygon A has all of B on its outer side.
 
     For convex polygons this one-sided test over the edges of A and of B is the
@@ -155,7 +155,7 @@ def _elements_overlap(n_parts, n_vertices, ea, a, eb, b, wv, pbox, ebox):
                 continue
             na = n_vertices[ea, pa]
             nb = n_vertices[eb, pb]
-            if not (_edge_separates(wv, a, pa, na, b, pb, nb) or _edge_separates(wv, b, pb, nb, a, pa, na)):
+            if not (edge_separates(wv, a, pa, na, b, pb, nb) or edge_separates(wv, b, pb, nb, a, pa, na)):
                 return True
     return False
 

@@ -57,12 +57,14 @@ def test_size_limit_and_outside_metrics(tmp_path):
     assert terms["count"].tolist() == [2.0]
 
 
-def reference_params(mapped, genes, ranges, arena, grammar_scale):
+def reference_params(mapped, genes, ranges, grammar_scale):
     """Plain NumPy placement decoding, the reference the numba kernel must equal."""
     ids = np.maximum(mapped.element_ids, 0)
     unit = genes.astype(np.float64) / GENE_MAX
     size, depth, uniform = ranges.size[ids], ranges.depth[ids], ranges.uniform[ids]
-    x, y = arena.width * unit[..., 0], arena.height * unit[..., 1]
+    area = ranges.area[ids]
+    x = area[..., 0] + (area[..., 2] - area[..., 0]) * unit[..., 0]
+    y = area[..., 1] + (area[..., 3] - area[..., 1]) * unit[..., 1]
     sx = size[..., 0] + (size[..., 1] - size[..., 0]) * unit[..., 2]
     sy = np.where(uniform, sx, depth[..., 0] + (depth[..., 1] - depth[..., 0]) * unit[..., 3])
     free = ranges.rot_lo[ids] + (ranges.rot_hi[ids] - ranges.rot_lo[ids]) * unit[..., 4]
@@ -81,7 +83,7 @@ def reference_params(mapped, genes, ranges, arena, grammar_scale):
     return np.where(present[..., None], params, 0.0)
 
 
-@pytest.mark.parametrize("example", ["factory.maze", "mazegen1.maze", "table1/exp1.maze"])
+@pytest.mark.parametrize("example", ["factory.maze", "mazegen1.maze", "table1/exp1.maze", "warehouse.maze"])
 def test_placement_kernel_equals_numpy_reference(example, tmp_path):
     from mazegen.runtime.engine._population import placement_params
 
@@ -93,12 +95,10 @@ def test_placement_kernel_equals_numpy_reference(example, tmp_path):
     assert mapped.n_elements.max() >= 3
     placement = problem.spec.scenario.placement
     scale = None if placement is None else placement.scale
-    expected = reference_params(mapped, genes, problem.ranges, problem.spec.arena, scale)
-    assert np.array_equal(
-        placement_params(mapped, genes, problem.ranges, problem.spec.arena, scale), expected
-    )
+    expected = reference_params(mapped, genes, problem.ranges, scale)
+    assert np.array_equal(placement_params(mapped, genes, problem.ranges, scale), expected)
     stale = np.full_like(expected, 7.0)  # a reused array: every slot is overwritten, padding zeroed
-    placement_params(mapped, genes, problem.ranges, problem.spec.arena, scale, stale)
+    placement_params(mapped, genes, problem.ranges, scale, stale)
     assert np.array_equal(stale, expected)
 
 
