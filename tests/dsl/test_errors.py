@@ -44,6 +44,9 @@ PLUGIN_FILES = {
 """Metric plug-in and map files beside every spec of the table."""
 
 
+TWO_ZONES = "{ zone a rect (0, 0) (10, 10) keep clear zone a rect (20, 20) (30, 30) keep clear "
+
+
 def hall(properties: str = 'map "hall.yaml" cm', *, start: str = "(50, 50)") -> str:
     """An arena on the map hall.yaml (200 x 160 cm)."""
     return f"arena floor {{ {properties} start {start} goal (150, 110) robot radius 20 }}\n"
@@ -879,6 +882,36 @@ BAD_SPECS = [
         spec(arena=hall(start="(250, 50)")),
         "2:40",
         "start (250, 50) is outside the arena 200 x 160",
+    ),
+    (
+        "zone: two of one name",
+        spec(arena=ARENA.replace("{ ", TWO_ZONES)),
+        "2:54",
+        "duplicate zone 'a' (first given at ",
+    ),
+    (
+        "zone: beyond the arena",
+        spec(arena=ARENA.replace("{ ", "{ zone a rect (900, 700) (1100, 800) keep clear ")),
+        "2:22",
+        "zone 'a' reaches beyond the arena 1000 x 800 at (1100, 700)",
+    ),
+    (
+        "zone: a rect's corners the wrong way round",
+        spec(arena=ARENA.replace("{ ", "{ zone a rect (100, 100) (50, 200) keep clear ")),
+        "2:22",
+        "a zone's rect goes from its lower-left corner to its upper-right, got (100, 100) (50, 200)",
+    ),
+    (
+        "zone: a polygon whose edges cross",
+        spec(arena=ARENA.replace("{ ", "{ zone a polygon (0, 0) (100, 100) (100, 0) (0, 100) keep clear ")),
+        "2:22",
+        "zone 'a': polygon edges cross or touch each other",
+    ),
+    (
+        "zone: an unknown element",
+        spec(arena=ARENA.replace("{ ", "{ zone a rect (0, 0) (100, 100) accepts bx ")),
+        "2:45",
+        "zone 'a': unknown element 'bx' (did you mean 'box'?)",
     ),
     (
         "metric plug-in: a negative penalty",

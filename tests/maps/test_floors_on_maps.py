@@ -61,3 +61,32 @@ def test_straight_drives_into_the_wall_between_start_and_goal(tmp_path):
     assert abs(x - 185) < 1 and abs(y - 60) < 1  # its disc (15) against the wall of column 20 (x 200)
     [around] = mazegen.drive(document, "dwa", spec=spec)  # round the wall, through its gap
     assert around.outcome == "arrived"
+
+
+def test_the_warehouse_examples_floors_keep_its_zones_and_walls():
+    """examples/warehouse.maze: every floor written keeps its aisles clear, its racks in their storage
+    areas, only bays and pallets in the yard, nothing on the hall's walls, and is solvable (shapely on
+    the map's own cells and the zones as written, not MazeGen's geometry)."""
+    from tests.conftest import EXAMPLES
+
+    spec = mazegen.load(EXAMPLES / "warehouse.maze").with_evolution(best=40)
+    result = mazegen.run(spec, runs=1, population=300, generations=3)
+    documents = result.best[0]
+    assert len(documents) >= 20
+    walls = _walls(EXAMPLES / "maps" / "hall.yaml", 10.0)
+    zones = [(zone, Polygon(zone.outline)) for zone in spec.arena.zones]
+    assert {zone.rule for zone, _ in zones} == {"clear", "accepts", "holds"}
+    racks = 0
+    for document in documents:
+        assert document["metrics"]["solvable"]
+        for element in document["elements"]:
+            outline = shapely.union_all([Polygon(part) for part in element["parts"]])
+            assert outline.intersection(walls).area == 0
+            for zone, area in zones:
+                if zone.rule == "clear" or (zone.rule == "accepts" and element["type"] not in zone.types):
+                    assert outline.intersection(area).area < 1e-6, (zone.name, element)
+            holding = [area for zone, area in zones if zone.rule == "holds" and element["type"] in zone.types]
+            if holding:
+                racks += 1
+                assert any(area.buffer(1e-3).covers(outline) for area in holding), element
+    assert racks > 0
