@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import math
 import re
@@ -134,13 +135,44 @@ def _smallest_across(element: ElementType) -> float:
 def check_fits(decl: Any, element: ElementType, arena: Arena) -> None:
     """Fail at an element's declaration when even its smallest size cannot lie wholly inside ``arena``
     (two of its points farther apart than the arena's corners): sizes meant in another unit, such as
-    a library in cm under an arena in m."""
+    a library in cm under an arena in m; likewise for the zones that hold it."""
     across, diagonal = _smallest_across(element), math.hypot(arena.width, arena.height)
+    unit = arena.unit
     if across > diagonal:
-        unit = arena.unit
         fail(
             decl,
             f"element '{element.name}' can never fit inside arena '{arena.name}' "
             f"({arena.width:g} x {arena.height:g} {unit}): at its smallest size it is {across:.4g} {unit} "
             f"across, the arena's diagonal {diagonal:.4g} {unit} (are its sizes in another unit?)",
         )
+    holding = [z for z in arena.zones if z.rule == "holds" and element.name in z.types]
+    widest = max((math.dist(*_box_corners(z.outline)) for z in holding), default=math.inf)
+    if across > widest:
+        names = ", ".join(f"'{z.name}'" for z in holding)
+        fail(
+            decl,
+            f"element '{element.name}' can never fit inside the zones that hold it ({names}): at its "
+            f"smallest size it is {across:.4g} {unit} across, the widest zone's diagonal {widest:.4g} {unit}",
+        )
+
+
+def _box_corners(outline: tuple[tuple[float, float], ...]) -> tuple[tuple[float, float], tuple[float, float]]:
+    xs, ys = [x for x, _ in outline], [y for _, y in outline]
+    return (min(xs), min(ys)), (max(xs), max(ys))
+
+
+def in_arena_units(element: ElementType, factor: float) -> ElementType:
+    """``element`` with its lengths (sizes, bar thicknesses, height) multiplied by ``factor``: declared in
+    a file whose ``units`` differ from the arena's."""
+    if factor == 1.0:
+        return element
+    parts = tuple(
+        Part(part.unit, tuple((ox * factor, oy * factor) for ox, oy in part.offset)) for part in element.parts
+    )
+    return dataclasses.replace(
+        element,
+        parts=parts,
+        size=(element.size[0] * factor, element.size[1] * factor),
+        size2=None if element.size2 is None else (element.size2[0] * factor, element.size2[1] * factor),
+        height=element.height * factor,
+    )

@@ -10,12 +10,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from textx import get_model
 from textx.exceptions import TextXSemanticError, TextXSyntaxError
 
 from mazegen import plugins
 from mazegen.dsl.arena import convert_arena
 from mazegen.dsl.blocks import convert_evolution, convert_fitness, convert_scenario
-from mazegen.dsl.elements import check_fits, convert_element
+from mazegen.dsl.elements import check_fits, convert_element, in_arena_units
 from mazegen.dsl.located import display_path, fail, where
 from mazegen.dsl.metamodel import metamodel
 from mazegen.dsl.robot import convert_robot
@@ -23,7 +24,7 @@ from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.dsl.zones import check_zone_types
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.spec import FitnessTerm, Spec
+from mazegen.spec import METRES_PER_UNIT, Arena, FitnessTerm, Spec
 from mazegen.text import quoted
 
 LIBRARY_DIR = Path(__file__).resolve().parent.parent / "library"
@@ -196,8 +197,12 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
     scenario = convert_scenario(singles["ScenarioDecl"], arenas, element_decls, evolution.genome)
     # Every declared element is checked, used or not, so a library's mistakes surface.
     converted = {name: convert_element(decl) for name, decl in element_decls.items()}
-    elements = tuple(converted[name] for name in scenario.elements)
     arena = arenas[scenario.arena]
+    factors = _unit_factors(files, arena)
+    elements = tuple(
+        in_arena_units(converted[name], factors[id(get_model(element_decls[name]))])
+        for name in scenario.elements
+    )
     if scenario.placement is None:  # else the grammar's numbers size the elements, not their ranges
         for element in elements:
             check_fits(element_decls[element.name], element, arena)
@@ -217,6 +222,25 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
         evolution=evolution,
         robot=robot,
     )
+
+
+def _unit_factors(files: list[ParsedFile], arena: Arena) -> dict[int, float]:
+    """By file (the ``id`` of its model), what its elements' lengths are multiplied by to be in
+    ``arena``'s unit: 1 where the file declares no ``units`` (its lengths are the arena's)."""
+    factors = {}
+    for parsed in files:
+        declared = parsed.model.units
+        if declared is None or declared.unit == arena.unit:
+            factors[id(parsed.model)] = 1.0
+        elif declared.unit not in METRES_PER_UNIT or arena.unit not in METRES_PER_UNIT:
+            fail(
+                declared,
+                f"this file's lengths are in {declared.unit} and arena '{arena.name}' is in {arena.unit}: "
+                "px has no size in metres to convert by (give both in mm, cm or m, or drop 'units')",
+            )
+        else:
+            factors[id(parsed.model)] = METRES_PER_UNIT[declared.unit] / METRES_PER_UNIT[arena.unit]
+    return factors
 
 
 def check_library(files: list[ParsedFile]) -> None:

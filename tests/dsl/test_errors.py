@@ -914,6 +914,20 @@ BAD_SPECS = [
         "zone 'a': unknown element 'bx' (did you mean 'box'?)",
     ),
     (
+        "zone: holding an element it can never fit",
+        spec(arena=ARENA.replace("{ ", "{ zone a rect (0, 0) (10, 20) holds box ")),
+        "1:1",
+        "element 'box' can never fit inside the zones that hold it ('a'): at its smallest size it is "
+        "28.28 cm across, the widest zone's diagonal 22.36 cm",
+    ),
+    (
+        "units: a file in cm under an arena in pixels",
+        "units cm\n" + spec(arena=ARENA.replace(" cm ", " px ")),
+        "1:1",
+        "this file's lengths are in cm and arena 'floor' is in px: px has no size in metres to convert by "
+        "(give both in mm, cm or m, or drop 'units')",
+    ),
+    (
         "metric plug-in: a negative penalty",
         spec(tail='fitness { metric dock_clearance from "dock.py" penalty -1 }\n'),
         "4:11",
