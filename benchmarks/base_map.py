@@ -1,7 +1,7 @@
 """Static evaluation on a 2,000 × 2,000-cell base map against an empty arena of the same size (issue 28).
 
 Usage:
-    python benchmarks/base_map.py                 # populations 1,000 and 5,000, median of 9 (~6 min)
+    python benchmarks/base_map.py                 # populations 1,000 and 5,000, median of 9 (~4 min)
     python benchmarks/base_map.py --repeats 7 --populations 1000
 
 Writes, in a temporary folder, two map_server maps of 2,000 × 2,000 cells at 5 cm (100 × 100 m): ``hall``

@@ -359,20 +359,23 @@ def elements_on_walls(
     (``grid.base``; the cells an element touches, as the configuration space marks them).
     ``size`` is the arena's width and height: an element outside it is counted by
     :func:`~mazegen.runtime.geometry._overlap.elements_outside`, not here.
-
     """
     ids, n_el, prm = population_arrays(table, element_ids, n_elements, params)
     out = np.zeros(ids.shape, np.bool_)
-    if ids.shape[0] and grid.base.any():
+    walls = unpack(grid.base, grid.cols)
+    if ids.shape[0] and walls.any():
+        # Wall cells in any rectangle of cells at once: elements whose box holds none are not rasterised.
+        sums = np.zeros((grid.rows + 1, grid.cols + 1), np.int64)
+        sums[1:, 1:] = walls.cumsum(axis=0).cumsum(axis=1)
         width, height = float(size[0]), float(size[1])
-        args = (table.shapes, ids, n_el, prm, grid_args(grid), width, height, out)
+        args = (table.shapes, ids, n_el, prm, grid_args(grid), sums, width, height, out)
         in_blocks(_walls_kernel, ids.shape[0], *args)
     return out
 
 
 @njit(cache=True, nogil=True)
 def _walls_kernel(
-    first, last, shapes, ids, n_el, params, grid, width, height, out
+    first, last, shapes, ids, n_el, params, grid, sums, width, height, out
 ):  # pragma: no cover - compiled
     n_parts, n_vertices, unit = shapes[0], shapes[1], shapes[2]
     cell, rows, cols, base = grid[0], grid[1], grid[2], grid[7]
@@ -386,13 +389,15 @@ def _walls_kernel(
             world_element(shapes, e, params[i, k], wv, pbox, ebox, 0)
             if ebox[0, 0] < 0.0 or ebox[0, 1] < 0.0 or ebox[0, 2] > width or ebox[0, 3] > height:
                 continue  # outside the rectangle: counted as such
+            r0, r1 = max(math.floor(ebox[0, 1] / cell), 0), min(math.floor(ebox[0, 3] / cell), rows - 1)
+            c0, c1 = max(math.floor(ebox[0, 0] / cell), 0), min(math.floor(ebox[0, 2] / cell), cols - 1)
+            if sums[r1 + 1, c1 + 1] - sums[r0, c1 + 1] - sums[r1 + 1, c0] + sums[r0, c0] == 0:
+                continue  # no wall cell under its box
             for p in range(n_parts[e]):
                 _mark_part(wv, 0, p, n_vertices[e, p], pbox[0, p], cell, rows, cols, marked)
             touches = False
-            for r in range(
-                max(math.floor(ebox[0, 1] / cell), 0), min(math.floor(ebox[0, 3] / cell), rows - 1) + 1
-            ):
-                for w in range(base.shape[1]):
+            for r in range(r0, r1 + 1):
+                for w in range(c0 >> 6, (c1 >> 6) + 1):
                     touches |= (marked[r, w] & base[r, w]) != 0
                     marked[r, w] = 0
             out[i, k] = touches

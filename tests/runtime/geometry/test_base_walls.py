@@ -45,7 +45,7 @@ def test_elements_on_the_walls_are_counted_and_those_clear_of_them_are_not():
     ids, n_elements, params = random_population(rng, 300, 4, 400.0, 300.0)
     params[..., 2:4] *= 0.4  # elements of 8 to 48 units, some between the walls
     grid = Grid.from_arena(ARENA)
-    counted = elements_on_walls(TABLE, ids, n_elements, params, grid, (400.0, 300.0))
+    counted = elements_on_walls(TABLE, ids, n_elements, params, grid, (400.0, 300.0)).sum(axis=1)
     outside = elements_outside(TABLE, ids, n_elements, params, 400.0, 300.0)
     walls = shapely.union_all(
         [box(c * 10, r * 10, (c + 1) * 10, (r + 1) * 10) for r, c in np.argwhere(CELLS)]
