@@ -13,11 +13,11 @@ from click.testing import CliRunner
 
 from mazegen.cli.main import main
 from mazegen.errors import MazeError
-from mazegen.runtime.documents._floor import load_floor
 from mazegen.maps import wall_rectangles
-from mazegen.runtime.documents._import import ImportedMap
 from mazegen.maps._files import read_map_yaml, read_pgm
 from mazegen.maps._occupancy import BARN_MARGIN, read_occupancy_map
+from mazegen.runtime.documents._floor import load_floor
+from mazegen.runtime.documents._import import ImportedMap
 from tests.conftest import EXAMPLES, ROOT
 
 MAP_YAML = "resolution: 1\norigin: [0, 0, 0]\nnegate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n"
