@@ -258,8 +258,8 @@ def _write(floors: list[Floor], drives: list[list[Drive]], subfolders: dict[Path
             )
         targets[target] = floor.source
         document = with_drives(floor.document, row)
-        made.append((target, document, dumps(document, str(target))))
-    for target, document, text in made:
+        made.append((target, document, dumps(document, str(target)), floor.base("its picture")))
+    for target, document, text, base in made:
         write_atomic(target, text)
-        render_file(document, target.with_suffix(".svg"))
+        render_file(document, target.with_suffix(".svg"), base=base)
     click.echo(f"wrote {len(floors)} scenarios and their pictures to {printable(str(out))}", err=True)

@@ -28,19 +28,29 @@ from mazegen.text import printable
 @reports_errors
 def render(scenario: Path, out: Path, spec: Path | None) -> None:
     """Draw SCENARIO (a scenario JSON file) as SVG or PNG."""
-    from mazegen.runtime.documents import check_complete, completed_document, has_parts, read_document
+    from mazegen.runtime.documents import (
+        check_complete,
+        completed_document,
+        has_parts,
+        load_floor,
+        read_document,
+    )
     from mazegen.runtime.reports import render_file
 
     document = read_document(scenario)
+    base = None
     if spec is not None:
         from mazegen.dsl.loader import load_spec
 
-        document = completed_document(load_spec(spec), document, str(scenario))
+        loaded = load_spec(spec)
+        document, base = completed_document(loaded, document, str(scenario)), loaded.arena.base
     elif "arena" not in document or not has_parts(document):
         raise MazeError(
             "the scenario has no arena or no element parts: give --spec SPEC.maze to compute them",
             filename=str(scenario),
         )
+    elif "map" in document["arena"]:  # its walls are its spec's, found beside it
+        base = load_floor(scenario).base("its picture")
     check_complete(document, str(scenario))
-    render_file(document, out)
+    render_file(document, out, base=base)
     click.echo(printable(str(out)))

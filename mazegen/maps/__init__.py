@@ -18,6 +18,7 @@ if TYPE_CHECKING:
         base_on_grid,
         point_on_walls,
         read_base_map,
+        wall_boxes,
     )
     from mazegen.maps._cells import Cells, near_cells, wall_rectangles
     from mazegen.maps._occupancy import OccupancyMap, checked_resolution, read_occupancy_map, scenario_name
@@ -36,6 +37,7 @@ __all__ = [
     "read_base_map",
     "read_occupancy_map",
     "scenario_name",
+    "wall_boxes",
     "wall_rectangles",
 ]
 
@@ -46,11 +48,11 @@ __getattr__ = lazy_names(
             "UNKNOWN",
             "base_cells",
             "base_digest",
-            "base_digest",
             "base_map_of",
             "base_on_grid",
             "point_on_walls",
             "read_base_map",
+            "wall_boxes",
         ],
         "_cells": ["Cells", "near_cells", "wall_rectangles"],
         "_occupancy": ["OccupancyMap", "checked_resolution", "read_occupancy_map", "scenario_name"],

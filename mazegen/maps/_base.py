@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mazegen.maps._cells import wall_rectangles
 from mazegen.maps._occupancy import read_occupancy_map
 from mazegen.spec import BaseMap
 
@@ -63,6 +64,17 @@ def base_cells(base: BaseMap) -> np.ndarray:
     cells = bits.astype(bool).reshape(base.rows, base.cols)
     cells.flags.writeable = False
     return cells
+
+
+@lru_cache(maxsize=64)
+def wall_boxes(base: BaseMap) -> tuple[tuple[float, float, float, float], ...]:
+    """The base's walls as few disjoint boxes ``(x0, y0, x1, y1)`` in arena units, together exactly its
+    blocked cells (:func:`~mazegen.maps._cells.wall_rectangles`): what worlds extrude and pictures fill."""
+    cell = base.resolution
+    return tuple(
+        (c0 * cell, r0 * cell, (c1 + 1) * cell, (r1 + 1) * cell)
+        for r0, r1, c0, c1 in wall_rectangles(base_cells(base))
+    )
 
 
 def base_on_grid(base: BaseMap, cell: float, rows: int, cols: int) -> np.ndarray:

@@ -96,6 +96,57 @@ def test_a_hand_drawn_floor_exports_with_its_spec(tmp_path):
     assert document["elements"][0]["parts"] and document["metrics"]["solvable"] and len(document["path"]) >= 2
 
 
+HALL = """import manufacturing
+arena hall { map "warehouse.yaml" cm  start (60, 60)  goal (355, 230)  robot radius 20  grid 5 }
+scenario hall on hall { elements cobot, router  max elements 8 }
+fitness { count  solvable required }
+"""
+"""An arena on examples/maps/warehouse.yaml."""
+
+
+@pytest.fixture(scope="module")
+def hall_run(tmp_path_factory) -> Path:
+    """A small run of :data:`HALL` (one run, two best scenarios) in ``run`` beside the spec and its map;
+    do not modify it."""
+    folder = tmp_path_factory.mktemp("hall")
+    for suffix in (".yaml", ".pgm"):
+        shutil.copy(EXAMPLES / "maps" / f"warehouse{suffix}", folder)
+    spec = mazegen.load(write(folder / "hall.maze", HALL)).with_evolution(best=2)
+    mazegen.run(spec, runs=1, population=30, generations=1, out_dir=folder / "run")
+    return folder
+
+
+def test_a_floor_on_a_map_is_exported_and_drawn_with_its_walls_or_not_at_all(hall_run, tmp_path):
+    run, spec = hall_run / "run", ["--spec", str(hall_run / "hall.maze")]
+    drawn = (run / "run-01" / "best-01.svg").read_text()
+    assert '<g class="walls"' in drawn  # the run's own pictures
+    for fmt in BUNDLED:
+        result = invoke("export", str(run), "-f", fmt, "-o", str(tmp_path / fmt))
+        assert result.exit_code == 0, (fmt, result.output)
+    assert '<model name="map_walls">' in (tmp_path / "gazebo" / "run-01" / "best-01.sdf").read_text()
+    assert invoke("report", str(run), "-o", str(tmp_path / "report.html")).exit_code == 0
+    # Taken out of its run folder, the floor names its map but has lost the map's cells.
+    alone = write(tmp_path / "alone" / "best-01.json", (run / "run-01" / "best-01.json").read_text())
+    needs = "needs its spec: give --spec SPEC.maze (scenarios in a run or suite directory find it there)"
+    needed = {"ros": "an occupancy map", "gazebo": "a Gazebo world", "irsim": "an IR-SIM world",
+              "movingai": "a grid map", "svg": "its picture", "png": "its picture"}  # fmt: skip
+    for fmt, what in needed.items():
+        result = invoke("export", str(alone), "-f", fmt, "-o", str(tmp_path / "out"))
+        assert result.exit_code == 1
+        assert result.stderr == f"{alone}: the floor is built on map 'warehouse.yaml': {what} {needs}\n"
+        given = invoke("export", str(alone), "-f", fmt, "-o", str(tmp_path / "given" / fmt), *spec)
+        assert given.exit_code == 0, given.output
+    assert not (tmp_path / "out").exists()
+    picture = tmp_path / "alone" / "best-01.svg"
+    result = invoke("render", str(alone), "-o", str(picture))
+    assert result.exit_code == 1 and "its picture needs its spec" in result.stderr and not picture.exists()
+    assert invoke("render", str(alone), "-o", str(picture), *spec).exit_code == 0
+    assert picture.read_text() == drawn
+    picture.unlink()
+    assert invoke("render", str(run / "run-01" / "best-01.json"), "-o", str(picture)).exit_code == 0
+    assert picture.read_text() == drawn  # its spec found beside it
+
+
 def write(path: Path, text: str) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(text)

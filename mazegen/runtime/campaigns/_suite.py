@@ -286,4 +286,7 @@ def write_suite(
         for number, document in enumerate(documents, start=1):
             name = SuiteDirectory.scenario_name(number, ".json")
             write_atomic(stage / name, dumps(document, str(out_dir / name)))
-            write_atomic(stage / SuiteDirectory.scenario_name(number, ".svg"), scenario_svg(document))
+            write_atomic(
+                stage / SuiteDirectory.scenario_name(number, ".svg"),
+                scenario_svg(document, base=problem.spec.arena.base),
+            )

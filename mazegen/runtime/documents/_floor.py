@@ -1,6 +1,7 @@
 """A scenario file read with the spec it was made under, when known: what ``export`` and ``drive`` read.
 
-Drawings, JSON and Gazebo worlds need only the document (its elements' world polygons).
+Drawings, JSON and Gazebo worlds need only the document (its elements' world polygons), unless
+the floor is built on a map: the document names the map, the spec holds its walls (:meth:`Floor.base`).
 Occupancy maps need the engine's own grid, which the spec defines: the spec comes from
 ``--spec`` or is found beside the scenario (``spec.json`` of a suite directory,
 ``experiment/spec.json`` of a run directory: see :mod:`~mazegen.runtime.documents._folders`).
@@ -31,7 +32,8 @@ from mazegen.runtime.documents._task import arena_differences, task_note, task_s
 from mazegen.runtime.engine import Population, read_build_spec
 from mazegen.runtime.geometry import ElementTable, Grid, grid_of, point_grid_of
 from mazegen.runtime.navigation import free_cells
-from mazegen.spec import Arena, Spec
+from mazegen.spec import Arena, BaseMap, Spec
+from mazegen.text import quoted
 
 EXPORT_METRES_PER_UNIT = {"mm": 0.001, "cm": 0.01, "m": 1.0, "px": 0.01}
 """Metres per arena unit in exports: ``px`` has no physical size, so exports take 1 px = 1 cm
@@ -112,15 +114,30 @@ class Floor:
         return EXPORT_METRES_PER_UNIT[unit]
 
     def needs_spec(self, what: str) -> Spec:
-        """The spec, or a one-line error saying that ``what`` needs it."""
+        """The spec, or a one-line error saying that ``what`` needs it (and, for a floor on a map, that
+        the map's walls are the spec's)."""
         if self.spec is None:
             found = "scenarios in a run or suite directory find it there"
+            needed = f"{what} needs the spec the scenario was made under"
+            if "map" in self.arena:
+                source = quoted(str(self.arena["map"].get("source")))
+                needed = f"the floor is built on map {source}: {what} needs its spec"
             raise MazeError(
-                f"{what} needs the spec the scenario was made under: "
-                + (self.unlike_spec or f"give --spec SPEC.maze ({found})"),
+                f"{needed}: " + (self.unlike_spec or f"give --spec SPEC.maze ({found})"),
                 filename=self.where,
             )
         return self.spec
+
+    def base(self, what: str) -> BaseMap | None:
+        """The map the floor is built on, None for a floor on none.
+
+        Raises:
+            MazeError: For a floor on a map whose spec is unknown: the document names its map, the
+                spec holds its cells, and ``what`` (``a Gazebo world``) is not made without its walls.
+        """
+        if "map" not in self.arena:
+            return None
+        return self.needs_spec(what).arena.base
 
     def task_note(self, done: str) -> str | None:
         """The note that the floor is ``done`` (``driven``) on its own start and goal, or None when
@@ -141,7 +158,8 @@ class Floor:
         engine's (row 0 at y = 0).
 
         The engine's configuration space for a point robot: no disc dilation, and blocked
-        only where elements touch, or for a partial edge cell whose centre lies outside the arena.
+        only where elements or the base map's walls touch, or for a partial edge cell whose centre
+        lies outside the arena.
 
         Raises:
             MazeError: For a cell that gives too large a grid.

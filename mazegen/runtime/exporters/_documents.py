@@ -14,10 +14,10 @@ def json_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
 
 
 def svg_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
-    """``NAME.svg``: the drawing of the scenario."""
-    return {f"{floor.name}.svg": scenario_svg(floor.document).encode("utf-8")}
+    """``NAME.svg``: the drawing of the scenario (with its map's walls)."""
+    return {f"{floor.name}.svg": scenario_svg(floor.document, base=floor.base("its picture")).encode("utf-8")}
 
 
 def png_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
-    """``NAME.png``: the drawing of the scenario."""
-    return {f"{floor.name}.png": scenario_png(floor.document)}
+    """``NAME.png``: the drawing of the scenario (with its map's walls)."""
+    return {f"{floor.name}.png": scenario_png(floor.document, base=floor.base("its picture"))}

@@ -5,12 +5,15 @@ The scenario an export reads is a :class:`~mazegen.runtime.documents._floor.Floo
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, fields
 
 import numpy as np
 
 from mazegen.errors import MazeError
+from mazegen.runtime.documents import Floor, safe_name
+from mazegen.spec import METRES_PER_UNIT
 
 SCALE_BOUNDS = (1e-6, 1000.0)
 """Metres per arena unit an export accepts: from micrometres to kilometres, which the
@@ -24,6 +27,31 @@ _RIGHT_ANGLE = 1e-3
 def yaml_number(value: float) -> str:
     """A YAML number: at most nine decimals, no ``-0.0``."""
     return repr(round(value, 9) + 0.0)
+
+
+def arena_corner(floor: Floor, metres: float) -> tuple[float, float]:
+    """The map frame's ``(x, y)`` of the arena's lower-left corner in the export's metres: (0, 0), or
+    the origin of the map the floor is built on, scaled as the floor is (``--scale`` scales the map
+    about its frame's origin).
+
+    Raises:
+        MazeError: For a floor on a map whose spec is unknown.
+    """
+    base = floor.base("an export")
+    if base is None:
+        return 0.0, 0.0
+    units = METRES_PER_UNIT[floor.arena["unit"]]  # the spec's metres per unit (a map's arena has mm, cm or m)
+    return base.origin[0] / units * metres, base.origin[1] / units * metres
+
+
+def map_note(floor: Floor, metres: float) -> str | None:
+    """Where a world in the arena's frame lies in the frame of the map the floor is built on
+    (``on map "hall.yaml": (x, y) here is (x -2, y -1.5) in its frame``), None on no map."""
+    if "map" not in floor.arena:
+        return None
+    x, y = arena_corner(floor, metres)
+    source = json.dumps(safe_name(str(floor.arena["map"]["source"])))
+    return f"on map {source}: (x, y) here is (x {x:+g}, y {y:+g}) in its frame"
 
 
 def rectangle_of(corners: np.ndarray) -> tuple[tuple[float, float], float, float, float] | None:

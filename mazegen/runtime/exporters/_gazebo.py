@@ -1,7 +1,8 @@
 """Gazebo worlds (SDF 1.6, for Gazebo classic and the new Gazebo).
 
-A world holds a ground plane, a sun, the arena's four edge walls, a flat start and
-goal marker (seen, not collided with), and one static model per element, named
+A world holds a ground plane, a sun, the arena's four edge walls, for a floor built on a map
+that map's walls (one static model of boxes, the map's blocked cells merged into few rectangles),
+a flat start and goal marker (seen, not collided with), and one static model per element, named
 ``element_NN_TYPE`` and posed at the element's ``(x, y)`` and rotation. Each convex
 part of an element is a box when it is a rectangle, else an extruded polygon
 (``polyline``), as tall as the element. Lengths are metres, the world frame is the
@@ -19,9 +20,11 @@ from typing import Any
 
 import numpy as np
 
+from mazegen.maps import wall_boxes
 from mazegen.runtime.documents import Floor, safe_name
-from mazegen.runtime.exporters._floor import ExportOptions, rectangle_of
+from mazegen.runtime.exporters._floor import ExportOptions, map_note, rectangle_of
 from mazegen.runtime.reports import rgb
+from mazegen.spec import BaseMap
 
 SDF_VERSION = "1.6"
 WALL_THICKNESS = 0.1
@@ -31,6 +34,7 @@ MARKER_HEIGHT = 0.002
 MARKER_RADIUS = 0.05
 """Metres: the start and goal markers' radius when the robot has none."""
 _ORIGIN = "0 0 0 0 0 0"
+_WALL = "0.5 0.5 0.5 1"
 _START = "0.17 0.63 0.17 1"
 _GOAL = "0.84 0.15 0.16 1"
 
@@ -145,14 +149,22 @@ def _surroundings(world: ET.Element, width: float, depth: float, wall_height: fl
     ground = _static_model(world, "ground_plane", (width / 2, depth / 2, 0, 0, 0, 0))
     _shape(ground, "ground", _ORIGIN, "0.8 0.8 0.8 1", partial(_plane, size=(width + 2, depth + 2)))
     walls = _static_model(world, "arena_walls", (0, 0, 0, 0, 0, 0))
-    t, grey = WALL_THICKNESS, "0.5 0.5 0.5 1"
+    t = WALL_THICKNESS
     for side, centre, size2 in (
         ("south", (width / 2, -t / 2), (width + 2 * t, t)),
         ("north", (width / 2, depth + t / 2), (width + 2 * t, t)),
         ("west", (-t / 2, depth / 2), (t, depth)),
         ("east", (width + t / 2, depth / 2), (t, depth)),
     ):
-        _box(walls, side, centre, (*size2, wall_height), 0.0, grey)
+        _box(walls, side, centre, (*size2, wall_height), 0.0, _WALL)
+
+
+def _map_walls(world: ET.Element, base: BaseMap, metres: float, wall_height: float) -> None:
+    """The walls of the map the floor is built on: a box per rectangle of its merged blocked cells."""
+    walls = _static_model(world, "map_walls", (0, 0, 0, 0, 0, 0))
+    for k, (x0, y0, x1, y1) in enumerate(wall_boxes(base)):
+        centre = ((x0 + x1) / 2 * metres, (y0 + y1) / 2 * metres)
+        _box(walls, f"wall_{k}", centre, ((x1 - x0) * metres, (y1 - y0) * metres, wall_height), 0.0, _WALL)
 
 
 def _marker(world: ET.Element, name: str, point: Sequence[float], radius: float, colour: str) -> None:
@@ -170,17 +182,21 @@ def gazebo_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     """``NAME.sdf``: the scenario as a Gazebo world.
 
     Raises:
-        MazeError: When the arena's unit has no size in metres.
+        MazeError: When the arena's unit has no size in metres, or the floor is built on a map and its
+            spec is unknown.
     """
     metres = floor.metres_per_unit(options)
+    base = floor.base("a Gazebo world")
     arena, elements = floor.arena, floor.document["elements"]
     root = ET.Element("sdf", version=SDF_VERSION)
-    root.append(
-        ET.Comment(f" MazeGen scenario from {_comment(floor.source.name)}; 1 arena unit = {metres:g} m ")
-    )
+    about = [f"MazeGen scenario from {safe_name(floor.source.name)}", f"1 arena unit = {metres:g} m"]
+    note = map_note(floor, metres)
+    root.append(ET.Comment(f" {_comment('; '.join([*about, note] if note else about))} "))
     world = _child(root, "world", name=_sdf_name(floor.document.get("scenario", "mazegen")))
     tallest = max((float(e.get("height", 100.0)) for e in elements), default=100.0) * metres
     _surroundings(world, float(arena["width"]) * metres, float(arena["height"]) * metres, tallest)
+    if base is not None:
+        _map_walls(world, base, metres, tallest)
     radius = float(arena.get("robot_radius", 0.0)) * metres or MARKER_RADIUS
     _marker(world, "start", [float(v) * metres for v in arena["start"]], radius, _START)
     _marker(world, "goal", [float(v) * metres for v in arena["goal"]], radius, _GOAL)
@@ -193,5 +209,6 @@ def gazebo_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
 
 
 def _comment(text: str) -> str:
-    """Text safe inside an XML comment: no character XML forbids (:func:`safe_name`), no ``--``."""
-    return re.sub("-{2,}", "-", safe_name(text))
+    """Text safe inside an XML comment (once characters XML forbids are gone, :func:`safe_name`): no
+    ``--``."""
+    return re.sub("-{2,}", "-", text)

@@ -3,7 +3,8 @@
 The world holds one differential-drive robot, a disc of the arena's robot radius at the start,
 heading toward the goal, with the driven robot's limits (the spec's robot block, else
 :func:`mazegen.spec.robot_for` the arena) and its 2D lidar; and one static obstacle per convex
-part of every element (a ``rectangle`` when the part is one, else a ``polygon``) plus four walls
+part of every element (a ``rectangle`` when the part is one, else a ``polygon``), for a floor built
+on a map a ``rectangle`` per rectangle of the map's merged blocked cells, plus four walls
 just outside the arena, since IR-SIM's world size bounds nothing. Lengths are metres, as in the
 ROS and Gazebo exports; the frame is the arena's. The file names no other file (no
 ``obstacle_map`` image, whose path IR-SIM resolves from the current directory), so it loads the
@@ -21,10 +22,11 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError, MazeNote
+from mazegen.maps import wall_boxes
 from mazegen.runtime.documents import Floor, safe_name
-from mazegen.runtime.exporters._floor import ExportOptions, rectangle_of, yaml_number
+from mazegen.runtime.exporters._floor import ExportOptions, map_note, rectangle_of, yaml_number
 from mazegen.runtime.exporters._gazebo import WALL_THICKNESS
-from mazegen.spec import Arena, Robot, robot_for
+from mazegen.spec import Arena, BaseMap, Robot, robot_for
 
 FULL_TURN = 2 * math.pi - 1e-12
 """A field of view this wide is a full turn (as the simulator's lidar takes it)."""
@@ -140,6 +142,14 @@ def _parts(floor: Floor, metres: float) -> Iterator[list[str]]:
                 ]
 
 
+def _map_walls(base: BaseMap | None, metres: float) -> Iterator[list[str]]:
+    """The walls of the map the floor is built on, if any: a rectangle per rectangle of its merged
+    blocked cells, ``map_wall_K``."""
+    for k, (x0, y0, x1, y1) in enumerate(wall_boxes(base) if base is not None else ()):
+        centre = ((x0 + x1) / 2 * metres, (y0 + y1) / 2 * metres)
+        yield _rectangle(f"map_wall_{k}", centre, (x1 - x0) * metres, (y1 - y0) * metres, 0.0)
+
+
 def _walls(width: float, height: float) -> Iterator[list[str]]:
     """Four walls, their inner faces on the arena's edges."""
     t = WALL_THICKNESS
@@ -153,10 +163,11 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     """``NAME.yaml``: the scenario as an IR-SIM world.
 
     Raises:
-        MazeError: When the arena's unit has no size in metres and no ``--scale`` is given, or the
-            arena has no robot radius.
+        MazeError: When the arena's unit has no size in metres and no ``--scale`` is given, the
+            arena has no robot radius, or the floor is built on a map and its spec is unknown.
     """
     metres = floor.metres_per_unit(options)
+    base = floor.base("an IR-SIM world")
     arena = floor.arena
     width, height = float(arena["width"]) * metres, float(arena["height"]) * metres
     robot = floor_robot(floor)
@@ -168,11 +179,13 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
             stacklevel=2,
         )
     step = robot.step
+    note = map_note(floor, metres)
     t = WALL_THICKNESS
     lines = [
         f"# IR-SIM world of MazeGen scenario {json.dumps(floor.document.get('scenario'))}, "
         f"{json.dumps(safe_name(floor.source.name))}:",
         f"# metres (1 arena unit = {metres:g} m), radians; the arena's lower-left corner at (0, 0)",
+        *([f"# {note}"] if note else []),
         "world:",
         f"  width: {yaml_number(width + 2 * t)}",
         f"  height: {yaml_number(height + 2 * t)}",
@@ -182,6 +195,6 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
         *_robot(floor, metres),
         "obstacle:",
     ]
-    for obstacle in (*_parts(floor, metres), *_walls(width, height)):
+    for obstacle in (*_parts(floor, metres), *_map_walls(base, metres), *_walls(width, height)):
         lines.extend(obstacle)
     return {f"{floor.name}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}

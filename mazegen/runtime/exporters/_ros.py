@@ -1,11 +1,12 @@
 """ROS and ROS 2 occupancy maps: a PGM image and the YAML that ``map_server`` loads.
 
-The image is the engine's own occupancy grid (the cells the elements touch, see
-:meth:`~mazegen.runtime.documents._floor.Floor.occupancy`), one pixel per cell, framed by one
+The image is the engine's own occupancy grid (the cells the elements and the base map's walls
+touch, see :meth:`~mazegen.runtime.documents._floor.Floor.occupancy`), one pixel per cell, framed by one
 occupied cell on each side for the arena's edge, which the engine never lets the robot cross. Pixels
 are 0 (occupied) or 254 (free); 205 (unknown) is never written, and the YAML's
 thresholds read it back as unknown, not free. Lengths are metres whatever the
-arena's unit, and the map frame is the arena's: its lower-left corner at (0, 0).
+arena's unit. The map frame is the arena's, its lower-left corner at (0, 0); or, for a floor built
+on a map, that map's own frame, so the export lies where the user's map lies.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import json
 import numpy as np
 
 from mazegen.runtime.documents import Floor, safe_name
-from mazegen.runtime.exporters._floor import ExportOptions, yaml_number
+from mazegen.runtime.exporters._floor import ExportOptions, arena_corner, yaml_number
 
 OCCUPIED = 0
 FREE = 254
@@ -48,19 +49,27 @@ def ros_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     occupied, grid = floor.occupancy(options.cell)
     metres = floor.metres_per_unit(options)
     resolution = grid.cell * metres
+    corner = arena_corner(floor, metres)
     image = f"{floor.name}.pgm"
     arena = floor.arena
-    start, goal = ([yaml_number(v * metres) for v in arena[key]] for key in ("start", "goal"))
+    start, goal = (
+        [yaml_number(v * metres + at) for v, at in zip(arena[key], corner)] for key in ("start", "goal")
+    )
     source = json.dumps(safe_name(floor.source.name))
-    lines = [
-        f"# MazeGen scenario {json.dumps(floor.document.get('scenario'))}, {source}:",
+    lines = [f"# MazeGen scenario {json.dumps(floor.document.get('scenario'))}, {source}:"]
+    if "map" in arena:
+        lines.append(
+            f"# built on map {json.dumps(safe_name(str(arena['map']['source'])))}: its walls and the elements"
+        )
+    lines += [
         f"# {grid.cols} x {grid.rows} cells of {yaml_number(resolution)} m, framed by one occupied cell",
         f"# start [{', '.join(start)}], goal [{', '.join(goal)}], "
         f"robot radius {yaml_number(arena.get('robot_radius', 0.0) * metres)} (metres, map frame)",
         f"image: {json.dumps(image)}",
         "mode: trinary",
         f"resolution: {yaml_number(resolution)}",
-        f"origin: [{yaml_number(-resolution)}, {yaml_number(-resolution)}, 0.0]",
+        # The frame's cell lies below and left of the arena's corner.
+        f"origin: [{yaml_number(corner[0] - resolution)}, {yaml_number(corner[1] - resolution)}, 0.0]",
         "negate: 0",
         f"occupied_thresh: {OCCUPIED_THRESH}",
         f"free_thresh: {FREE_THRESH}",

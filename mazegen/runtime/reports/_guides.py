@@ -22,6 +22,7 @@ from mazegen.runtime.reports._scene import (
     PATH_COLOUR,
     RGB,
     START_COLOUR,
+    WALL_COLOUR,
     Point,
     Scene,
     Shape,
@@ -98,11 +99,15 @@ def axes(scene: Scene, at: Any, k: float, u: float, font: float, tick: float) ->
 def legend(
     scene: Scene, types: Counter[str], corner: Point, side: float, max_rows: int, u: float, font: float
 ) -> list[Shape]:
-    """One row per element type (sorted), then start, goal, the path (or "no path") and each controller:
-    a line in its colour, ending in the mark its drive ended with (:data:`ENDINGS`)."""
+    """The map the floor is built on, one row per element type (sorted), then start, goal, the path
+    (or "no path") and each controller: a line in its colour, ending in the mark its drive ended with
+    (:data:`ENDINGS`)."""
     colours = {e.kind: e.colour for e in reversed(scene.elements)}
     chars = int((side - 2 * font) / (0.6 * font))
-    entries: list[tuple[str, str, RGB]] = [
+    entries: list[tuple[str, str, RGB]] = []
+    if scene.map_source:
+        entries.append(("rect", label(f"map {scene.map_source}", chars), WALL_COLOUR))
+    entries += [
         ("rect", f"{label(kind, chars - len(str(count)) - 3)} ({count})", colours[kind])
         for kind, count in sorted(types.items())
     ]

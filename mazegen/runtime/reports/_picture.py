@@ -2,7 +2,8 @@
 
 :mod:`mazegen.runtime.reports._render` writes these primitives as SVG or PNG, so both show
 the same thing: the arena (y up, flipped to the image's y down) with axes in the
-arena unit, every element as one semi-opaque shape in its colour (the outline of its parts,
+arena unit, the walls of the map the floor is built on (dark grey, under the elements), every element
+as one semi-opaque shape in its colour (the outline of its parts,
 :func:`mazegen.runtime.reports._scene.outline`), the robot's path when the document has one or a
 "no path" mark when its metrics say there is none, each driven controller's trajectory as a line
 in its own colour (an × where it collided, a square where it ran out of time), the start and goal
@@ -29,6 +30,7 @@ from mazegen.runtime.reports._scene import (
     PAPER,
     PATH_COLOUR,
     START_COLOUR,
+    WALL_COLOUR,
     WHITE,
     Element,
     Picture,
@@ -62,8 +64,10 @@ def layout(scene: Scene, pixels: int) -> Picture:
     types = Counter(e.kind for e in scene.elements)
     max_rows = int((pixels - title_h - pad) / row)
     width = round(ox + k * scene.arena.width + gap + side + pad)
-    # types, start, goal, path, controllers
-    legend_rows = len(types) + 2 + bool(scene.path or scene.unsolvable) + len(scene.drives)
+    # the map, types, start, goal, path, controllers
+    legend_rows = (
+        bool(scene.map_source) + len(types) + 2 + bool(scene.path or scene.unsolvable) + len(scene.drives)
+    )
     legend_h = title_h + min(legend_rows, max_rows) * row
     height = min(pixels, round(max(oy + k * scene.arena.height + bottom_h, legend_h)))
 
@@ -86,9 +90,13 @@ def layout(scene: Scene, pixels: int) -> Picture:
 
 
 def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> list[Shape]:
-    """The elements, the path or the "no path" mark, the trajectories, start and goal, and the
-    marks of how the drives ended: the clipped groups."""
-    shapes = [_element(element, at, u) for element in scene.elements]
+    """The map's walls, the elements, the path or the "no path" mark, the trajectories, start and
+    goal, and the marks of how the drives ended: the clipped groups."""
+    shapes = [
+        Shape("rect", (at((x0, y1)), at((x1, y0))), fill=WALL_COLOUR, group="walls")
+        for (x0, y0), (x1, y1) in scene.walls
+    ]
+    shapes += [_element(element, at, u) for element in scene.elements]
     if scene.path:
         shapes.append(
             Shape(

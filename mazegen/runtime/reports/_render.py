@@ -21,6 +21,7 @@ from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
 from mazegen.runtime.reports._picture import layout
 from mazegen.runtime.reports._scene import CLIPPED, INK, RGB, WHITE, Point, Shape, parse, rgb
+from mazegen.spec import BaseMap
 
 __all__ = ["render_file", "rgb", "scenario_png", "scenario_svg"]
 
@@ -86,20 +87,22 @@ def _svg_group(group: str, shapes: list[Shape]) -> list[str]:
     return [f'<g class="{group}" clip-path="url(#{_CLIP_ID})">', *lines, "</g>"]
 
 
-def scenario_svg(doc: dict, *, pixels: int = 800) -> str:
+def scenario_svg(doc: dict, *, base: BaseMap | None = None, pixels: int = 800) -> str:
     """Draw a scenario as a standalone SVG document.
 
     Args:
         doc: A ``mazegen-scenario`` version 1 document.
+        base: The map the floor is built on (its spec's ``arena.base``), for a document that names one.
         pixels: Length of the longer side of the image.
 
     Returns:
         The SVG text, ending with a newline; the same document gives the same text.
 
     Raises:
-        MazeError: If ``doc`` is not a scenario document or ``pixels`` is below 100.
+        MazeError: If ``doc`` is not a scenario document, ``base`` is not the map it names, or
+            ``pixels`` is below 100.
     """
-    scene = parse(doc)
+    scene = parse(doc, base)
     picture = layout(scene, pixels)
     width, height = picture.width, picture.height
     (x0, y0), (x1, y1) = picture.frame
@@ -117,20 +120,22 @@ def scenario_svg(doc: dict, *, pixels: int = 800) -> str:
     return "\n".join(lines) + "\n"
 
 
-def scenario_png(doc: dict, *, pixels: int = 800) -> bytes:
+def scenario_png(doc: dict, *, base: BaseMap | None = None, pixels: int = 800) -> bytes:
     """Draw a scenario as a PNG image with Pillow.
 
     Args:
         doc: A ``mazegen-scenario`` version 1 document.
+        base: The map the floor is built on (its spec's ``arena.base``), for a document that names one.
         pixels: Length of the longer side of the image.
 
     Returns:
         The PNG bytes; the same document gives the same bytes.
 
     Raises:
-        MazeError: If ``doc`` is not a scenario document or ``pixels`` is below 100.
+        MazeError: If ``doc`` is not a scenario document, ``base`` is not the map it names, or
+            ``pixels`` is below 100.
     """
-    picture = layout(parse(doc), pixels)
+    picture = layout(parse(doc, base), pixels)
     s = _SUPERSAMPLE
     image = Image.new("RGB", (picture.width * s, picture.height * s), WHITE)
     (x0, y0), (x1, y1) = picture.frame
@@ -191,27 +196,28 @@ def _draw_rings(image: Image.Image, draw: ImageDraw.ImageDraw, shape: Shape) -> 
         draw.line([*ring, ring[0]], fill=shape.stroke, width=max(1, round(shape.width * s)), joint="curve")
 
 
-_WRITERS: dict[str, Callable[[dict], bytes]] = {
-    ".svg": lambda doc: scenario_svg(doc).encode("utf-8"),
-    ".png": scenario_png,
+_WRITERS: dict[str, Callable[[dict, BaseMap | None], bytes]] = {
+    ".svg": lambda doc, base: scenario_svg(doc, base=base).encode("utf-8"),
+    ".png": lambda doc, base: scenario_png(doc, base=base),
 }
 
 
-def render_file(doc: dict, path: Path) -> None:
+def render_file(doc: dict, path: Path, *, base: BaseMap | None = None) -> None:
     """Draw a scenario into ``path``, as SVG or PNG by its suffix, replacing it atomically.
 
     Args:
         doc: A ``mazegen-scenario`` version 1 document.
         path: Where to write; the suffix (``.svg`` or ``.png``) picks the format.
+        base: The map the floor is built on (its spec's ``arena.base``), for a document that names one.
 
     Raises:
-        MazeError: For another suffix, a bad document, or a file that cannot be written.
+        MazeError: For another suffix, a bad document or map, or a file that cannot be written.
     """
     path = Path(path)
     writer = _WRITERS.get(path.suffix.lower())
     if writer is None:
         raise MazeError(f"cannot draw into {path.name!r}: the name must end with .svg or .png")
-    data = writer(doc)
+    data = writer(doc, base)
     try:
         write_atomic(path, data)
     except OSError as exc:

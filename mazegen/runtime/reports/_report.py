@@ -109,11 +109,12 @@ def read_run(path: Path) -> RunContents:
             f"damaged stats.csv (want the columns {', '.join(sorted(needed))})", filename=str(path)
         )
     scenarios = []
+    base = spec.arena.base if spec is not None else None
     for file in layout.best_files():
         ranked = RunDirectory.best_rank(file)
         if ranked is not None:
             number, rank = ranked
-            scenarios.append((number, Saved(f"run {number}, #{rank}", file, read_document(file))))
+            scenarios.append((number, Saved(f"run {number}, #{rank}", file, read_document(file), base)))
     return RunContents(path, experiment, spec, stats, _seconds(layout, stats), scenarios)
 
 

@@ -69,7 +69,7 @@ def suite_html(path: Path, *, links_from: Path) -> str:
     except (ValueError, KeyError, TypeError, AttributeError):
         raise MazeError("damaged archive.json", filename=str(suite.archive)) from None
     scenarios = [
-        Saved(f"scenario {SuiteDirectory.number(file)}", file, read_document(file))
+        Saved(f"scenario {SuiteDirectory.number(file)}", file, read_document(file), spec.arena.base)
         for file in suite.scenario_files()
     ]
     heatmap = suite.heatmap

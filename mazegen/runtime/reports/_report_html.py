@@ -17,7 +17,7 @@ from typing import Any
 
 from mazegen.runtime.reports._render import scenario_svg
 from mazegen.runtime.reports._spec_words import block_text, spec_blocks
-from mazegen.spec import Spec
+from mazegen.spec import BaseMap, Spec
 
 THUMBNAIL_PIXELS = 480
 """Longer side of a drawing in a page: its labels stay readable (at least 10 pixels)."""
@@ -46,11 +46,13 @@ class Saved:
         label: How the page names it: ``run 2, #1`` or ``scenario 05``.
         file: The JSON file; its drawing is the ``.svg`` beside it, when there is one.
         document: The scenario document.
+        base: The map the floor is built on, from the folder's spec (None for none).
     """
 
     label: str
     file: Path
     document: dict[str, Any]
+    base: BaseMap | None = None
 
 
 def e(value: Any) -> str:
@@ -166,7 +168,7 @@ def file_links(saved: Saved, links_from: Path) -> str:
 def figure(saved: Saved, links_from: Path) -> str:
     """A scenario's drawing (linked to its full picture), caption, links, metrics and phenotype."""
     text = e(caption(saved))
-    drawing = scenario_svg(saved.document, pixels=THUMBNAIL_PIXELS).encode("utf-8")
+    drawing = scenario_svg(saved.document, base=saved.base, pixels=THUMBNAIL_PIXELS).encode("utf-8")
     picture = saved.file.with_suffix(".svg")
     target = picture if picture.is_file() else saved.file
     return (

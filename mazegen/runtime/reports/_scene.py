@@ -3,7 +3,9 @@
 
 An element is drawn by its outline: the union of its convex parts, so that a non-convex element
 (an L, a frame) is one shape, without seams or darker overlaps where its parts meet. A drive ends
-in a mark of how it ended: an × where the robot collided, a square where it ran out of time.
+in a mark of how it ended: an × where the robot collided, a square where it ran out of time. A floor
+built on a map shows the map's walls under its elements; the document names the map, the spec
+holds its cells, so its picture is drawn with the spec's map (:func:`parse`'s ``base``).
 """
 
 from __future__ import annotations
@@ -17,12 +19,16 @@ import shapely
 from PIL import ImageColor
 
 from mazegen.errors import MazeError
-from mazegen.spec import Arena
+from mazegen.maps import base_digest, wall_boxes
+from mazegen.spec import Arena, BaseMap
+from mazegen.text import quoted
 
 Point = tuple[float, float]
 RGB = tuple[int, int, int]
 
 DEFAULT_COLOUR: RGB = (85, 85, 85)
+WALL_COLOUR: RGB = (61, 61, 61)
+"""A base map's walls: the dark grey of the bundled walls (``vwall``)."""
 START_COLOUR: RGB = (44, 160, 44)
 GOAL_COLOUR: RGB = (214, 39, 40)
 PATH_COLOUR: RGB = (230, 0, 126)  # magenta: no bundled element is drawn in it
@@ -41,7 +47,7 @@ DRIVE_COLOURS: tuple[RGB, ...] = (
     (188, 189, 34),  # olive
 )
 """The trajectories' colours, none of them the path's, the start's or the goal's."""
-CLIPPED = ("elements", "no-path", "drive")
+CLIPPED = ("walls", "elements", "no-path", "drive")
 """The groups drawn inside the arena, clipped to its frame."""
 ENDINGS = ("collision", "timeout")
 """The outcomes of a drive whose end is marked (:func:`end_mark`)."""
@@ -79,7 +85,11 @@ class Driven:
 
 @dataclass(frozen=True)
 class Scene:
-    """What the picture shows of a scenario document."""
+    """What the picture shows of a scenario document.
+
+    ``map_source`` names the map the floor is built on ("" for none), and ``walls`` are its walls:
+    disjoint rectangles, each its lower-left and upper-right corners.
+    """
 
     name: str
     arena: Arena
@@ -88,6 +98,8 @@ class Scene:
     path: tuple[Point, ...]
     unsolvable: bool
     drives: tuple[Driven, ...] = ()
+    map_source: str = ""
+    walls: tuple[tuple[Point, Point], ...] = ()
 
     @property
     def title(self) -> str:
@@ -157,8 +169,9 @@ def rgb(value: Any) -> RGB:
     return r, g, b
 
 
-def parse(doc: dict) -> Scene:
-    """Read the parts of a scenario document that the picture needs."""
+def parse(doc: dict, base: BaseMap | None = None) -> Scene:
+    """Read the parts of a scenario document that the picture needs; ``base`` is the map the floor is
+    built on, from its spec (the document names it, see :func:`_walls`)."""
     if doc.get("format") != "mazegen-scenario" or doc.get("version") != 1:
         raise MazeError("not a scenario document (want format 'mazegen-scenario', version 1)")
     try:
@@ -191,9 +204,35 @@ def parse(doc: dict) -> Scene:
             path=tuple(_point(p) for p in path) if len(path) >= 2 else (),
             unsolvable=isinstance(metrics, dict) and metrics.get("solvable") is False,
             drives=_drives(doc.get("drive")),
+            map_source=label(base.source) if base is not None else "",
+            walls=_walls(arena.get("map"), base),
         )
     except (KeyError, TypeError, ValueError, AttributeError) as exc:  # AttributeError: a drive not an object
         raise MazeError(f"bad scenario document: {exc!r}") from exc
+
+
+def _walls(recorded: dict | None, base: BaseMap | None) -> tuple[tuple[Point, Point], ...]:
+    """The walls of ``base``, checked to be the map the document's ``arena.map`` names (``recorded``).
+
+    Raises:
+        MazeError: When the document names a map and no ``base`` is given (the picture would not show
+            its walls), or ``base`` is another map than the document's, or the document names none.
+    """
+    if base is None:
+        if recorded is None:
+            return ()
+        raise MazeError(
+            f"the floor is built on map {quoted(str(recorded['source']))}: its picture needs its spec "
+            "(give --spec SPEC.maze, or draw it from its run folder)"
+        )
+    if recorded is None or recorded["cells"] != base_digest(base):
+        named = (
+            "no map" if recorded is None else f"map {quoted(str(recorded['source']))} ({recorded['cells']})"
+        )
+        raise MazeError(
+            f"the floor is built on {named}; the spec's map is {quoted(base.source)} ({base_digest(base)})"
+        )
+    return tuple(((x0, y0), (x1, y1)) for x0, y0, x1, y1 in wall_boxes(base))
 
 
 def _drives(section: Any) -> tuple[Driven, ...]:

@@ -43,6 +43,7 @@ from mazegen.runtime.documents import RunDirectory
 from mazegen.runtime.documents import dumps
 from mazegen.runtime.reports import scenario_svg
 from mazegen.runtime.runs._locks import lock_folder
+from mazegen.spec import BaseMap
 
 TIMED = "seconds"
 STAGED_START = "start-"
@@ -152,8 +153,11 @@ def _swap(stage: Path, target: Path) -> None:
     shutil.rmtree(old, ignore_errors=True)
 
 
-def run_files(result: RunResult, documents: tuple[dict[str, Any], ...]) -> dict[str, bytes]:
-    """The files of a run's folder: its best scenarios (JSON and SVG) and its final population.
+def run_files(
+    result: RunResult, documents: tuple[dict[str, Any], ...], base: BaseMap | None
+) -> dict[str, bytes]:
+    """The files of a run's folder: its best scenarios (JSON and SVG, on ``base``, the map the arena
+    is built on) and its final population.
 
     Workers prepare them (compressing a large population takes as long as a few generations),
     so the launcher, which writes every run, only writes bytes.
@@ -162,7 +166,7 @@ def run_files(result: RunResult, documents: tuple[dict[str, Any], ...]) -> dict[
     for rank, document in enumerate(documents, start=1):
         name = RunDirectory.best_name(rank, ".json")
         files[name] = dumps(document, name).encode("utf-8")
-        files[RunDirectory.best_name(rank, ".svg")] = scenario_svg(document).encode("utf-8")
+        files[RunDirectory.best_name(rank, ".svg")] = scenario_svg(document, base=base).encode("utf-8")
     arrays = {"codons": result.codons, "placement": result.genes, "fitness": result.fitness}
     files[RunDirectory.POPULATION] = npz_bytes(arrays)
     return files

@@ -237,7 +237,7 @@ def run_task(task: RunTask, channel: Channel) -> RunOutcome:
             return InterruptedRun(task.key, stopped.generation, stopped.saved)
         origin = {"seed": settings.seed, "run": task.run, "generation": settings.generations}
         documents = best_documents(problem, result, count=settings.best, origin=origin)
-    files = run_files(result, documents) if task.prepare_files else None
+    files = run_files(result, documents, problem.spec.arena.base) if task.prepare_files else None
     if not task.keep_population:
         result = RunResult(result.codons[:0], result.genes[:0], result.fitness[:0], result.stats)
     return FinishedRun(task.key, result, documents, files)
