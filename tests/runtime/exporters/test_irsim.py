@@ -19,6 +19,7 @@ import shapely
 import mazegen
 from mazegen.errors import MazeError, MazeNote
 from mazegen.export_formats import BUNDLED
+from mazegen.maps import wall_boxes
 from mazegen.runtime.documents._floor import Floor, load_floor
 from mazegen.runtime.exporters._floor import ExportOptions
 from mazegen.runtime.exporters._irsim import floor_robot, irsim_files
@@ -59,13 +60,16 @@ def hand_floor(spec: Spec, folder: Path) -> Floor:
 
 
 def check_world(env, floor: Floor, metres: float) -> None:
-    """IR-SIM holds every part (as the same polygon) and the four walls, and the robot as written."""
+    """IR-SIM holds every part (as the same polygon), the walls of the floor's map (tested on their own in
+    test_base_map_exports.py) and the four walls, and the robot as written."""
     arena = floor.arena
     parts = [np.asarray(part) * metres for element in floor.document["elements"] for part in element["parts"]]
-    assert len(env.obstacle_list) == len(parts) + 4
+    base = floor.base("an IR-SIM world")
+    boxes = 0 if base is None else len(wall_boxes(base))
+    assert len(env.obstacle_list) == len(parts) + boxes + 4
     for obstacle, part in zip(env.obstacle_list, parts):
         assert shapely.hausdorff_distance(shapely.Polygon(part), obstacle.geometry) < 1e-6
-    walls = shapely.union_all([o.geometry for o in env.obstacle_list[len(parts) :]])
+    walls = shapely.union_all([o.geometry for o in env.obstacle_list[len(parts) + boxes :]])
     width, height = arena["width"] * metres, arena["height"] * metres
     inside = shapely.box(0, 0, width, height)
     assert walls.intersection(inside).area == pytest.approx(0, abs=1e-9)
