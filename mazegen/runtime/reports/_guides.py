@@ -23,6 +23,8 @@ from mazegen.runtime.reports._scene import (
     RGB,
     START_COLOUR,
     WALL_COLOUR,
+    ZONE_COLOURS,
+    ZONE_OPACITY,
     Point,
     Scene,
     Shape,
@@ -99,7 +101,8 @@ def axes(scene: Scene, at: Any, k: float, u: float, font: float, tick: float) ->
 def legend(
     scene: Scene, types: Counter[str], corner: Point, side: float, max_rows: int, u: float, font: float
 ) -> list[Shape]:
-    """The map the floor is built on, one row per element type (sorted), then start, goal, the path
+    """The map the floor is built on, a row per zone rule (its zones' names), one row per element type
+    (sorted), then start, goal, the path
     (or "no path") and each controller: a line in its colour, ending in the mark its drive ended with
     (:data:`ENDINGS`)."""
     colours = {e.kind: e.colour for e in reversed(scene.elements)}
@@ -107,6 +110,11 @@ def legend(
     entries: list[tuple[str, str, RGB]] = []
     if scene.map_source:
         entries.append(("rect", label(f"map {scene.map_source}", chars), WALL_COLOUR))
+    for rule in ("clear", "accepts", "holds"):  # one row per rule: which zones follow it
+        names = [zone.name for zone in scene.zones if zone.rule == rule]
+        if names:
+            words = "keep clear" if rule == "clear" else rule
+            entries.append(("zone", label(f"{words}: {', '.join(names)}", chars), ZONE_COLOURS[rule]))
     entries += [
         ("rect", f"{label(kind, chars - len(str(count)) - 3)} ({count})", colours[kind])
         for kind, count in sorted(types.items())
@@ -128,10 +136,9 @@ def legend(
     shapes = []
     for i, (swatch, text, colour) in enumerate(entries):
         y = top + i * 1.6 * font
-        if swatch == "rect":
-            shapes.append(
-                Shape("rect", ((lx, y), (lx + font, y + font)), colour, darker(colour), FILL_OPACITY, u)
-            )
+        if swatch in ("rect", "zone"):
+            opacity = ZONE_OPACITY if swatch == "zone" else FILL_OPACITY
+            shapes.append(Shape("rect", ((lx, y), (lx + font, y + font)), colour, darker(colour), opacity, u))
         elif swatch == "circle":
             centre = (lx + font / 2, y + font / 2)
             shapes.append(Shape("circle", (centre,), colour, darker(colour), MARKER_OPACITY, u, font / 2))

@@ -32,6 +32,8 @@ from mazegen.runtime.reports._scene import (
     START_COLOUR,
     WALL_COLOUR,
     WHITE,
+    ZONE_COLOURS,
+    ZONE_OPACITY,
     Element,
     Picture,
     Point,
@@ -64,9 +66,14 @@ def layout(scene: Scene, pixels: int) -> Picture:
     types = Counter(e.kind for e in scene.elements)
     max_rows = int((pixels - title_h - pad) / row)
     width = round(ox + k * scene.arena.width + gap + side + pad)
-    # the map, types, start, goal, path, controllers
+    # the map, the zones' rules, types, start, goal, path, controllers
     legend_rows = (
-        bool(scene.map_source) + len(types) + 2 + bool(scene.path or scene.unsolvable) + len(scene.drives)
+        bool(scene.map_source)
+        + len({zone.rule for zone in scene.zones})
+        + len(types)
+        + 2
+        + bool(scene.path or scene.unsolvable)
+        + len(scene.drives)
     )
     legend_h = title_h + min(legend_rows, max_rows) * row
     height = min(pixels, round(max(oy + k * scene.arena.height + bottom_h, legend_h)))
@@ -90,9 +97,32 @@ def layout(scene: Scene, pixels: int) -> Picture:
 
 
 def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> list[Shape]:
-    """The map's walls, the elements, the path or the "no path" mark, the trajectories, start and
+    """The zones, the map's walls, the elements, the path or the "no path" mark, the trajectories, start and
     goal, and the marks of how the drives ended: the clipped groups."""
     shapes = [
+        Shape(
+            "polygon",
+            tuple(at(p) for p in zone.outline),
+            ZONE_COLOURS[zone.rule],
+            darker(ZONE_COLOURS[zone.rule]),
+            ZONE_OPACITY,
+            1.5 * u,
+            group="zones",
+        )
+        for zone in scene.zones
+    ]
+    shapes += [
+        Shape(
+            "text",
+            (at(zone.outline[0]),),
+            fill=darker(ZONE_COLOURS[zone.rule]),
+            width=0.8 * font,
+            text=zone.name,
+            group="zones",
+        )
+        for zone in scene.zones
+    ]
+    shapes += [
         Shape("rect", (at((x0, y1)), at((x1, y0))), fill=WALL_COLOUR, group="walls")
         for (x0, y0), (x1, y1) in scene.walls
     ]

@@ -47,7 +47,14 @@ DRIVE_COLOURS: tuple[RGB, ...] = (
     (188, 189, 34),  # olive
 )
 """The trajectories' colours, none of them the path's, the start's or the goal's."""
-CLIPPED = ("walls", "elements", "no-path", "drive")
+ZONE_COLOURS: dict[str, RGB] = {
+    "clear": (229, 115, 115),
+    "accepts": (100, 181, 246),
+    "holds": (129, 199, 132),
+}
+"""An arena's zones by rule: keep clear red, accepts blue, holds green (drawn faint, under the walls)."""
+ZONE_OPACITY = 0.22
+CLIPPED = ("zones", "walls", "elements", "no-path", "drive")
 """The groups drawn inside the arena, clipped to its frame."""
 ENDINGS = ("collision", "timeout")
 """The outcomes of a drive whose end is marked (:func:`end_mark`)."""
@@ -84,11 +91,26 @@ class Driven:
 
 
 @dataclass(frozen=True)
+class ZoneMark:
+    """A zone as drawn: its name, rule (``clear``, ``accepts``, ``holds``), types named and outline."""
+
+    name: str
+    rule: str
+    types: tuple[str, ...]
+    outline: tuple[Point, ...]
+
+    @property
+    def words(self) -> str:
+        """The rule as the language writes it (``holds shelfRack``)."""
+        return "keep clear" if self.rule == "clear" else f"{self.rule} {', '.join(self.types)}"
+
+
+@dataclass(frozen=True)
 class Scene:
     """What the picture shows of a scenario document.
 
     ``map_source`` names the map the floor is built on ("" for none), and ``walls`` are its walls:
-    disjoint rectangles, each its lower-left and upper-right corners.
+    disjoint rectangles, each its lower-left and upper-right corners; ``zones`` the arena's zones.
     """
 
     name: str
@@ -100,6 +122,7 @@ class Scene:
     drives: tuple[Driven, ...] = ()
     map_source: str = ""
     walls: tuple[tuple[Point, Point], ...] = ()
+    zones: tuple[ZoneMark, ...] = ()
 
     @property
     def title(self) -> str:
@@ -206,6 +229,15 @@ def parse(doc: dict, base: BaseMap | None = None) -> Scene:
             drives=_drives(doc.get("drive")),
             map_source=label(base.source) if base is not None else "",
             walls=_walls(arena.get("map"), base),
+            zones=tuple(
+                ZoneMark(
+                    label(zone["name"], 40),
+                    zone["rule"] if zone["rule"] in ZONE_COLOURS else "clear",
+                    tuple(label(t, 40) for t in zone["types"]),
+                    tuple(_point(p) for p in zone["outline"]),
+                )
+                for zone in arena.get("zones", ())
+            ),
         )
     except (KeyError, TypeError, ValueError, AttributeError) as exc:  # AttributeError: a drive not an object
         raise MazeError(f"bad scenario document: {exc!r}") from exc

@@ -15,7 +15,9 @@ import pytest
 from PIL import Image
 
 from mazegen.errors import MazeError
+from mazegen.runtime.reports._picture import layout
 from mazegen.runtime.reports._render import render_file, scenario_png, scenario_svg
+from mazegen.runtime.reports._scene import parse
 
 SVG = "{http://www.w3.org/2000/svg}"
 
@@ -541,3 +543,37 @@ def test_an_element_of_several_parts_is_one_outline_without_seams(doc: dict) -> 
     assert seen_at(130, 530) == pytest.approx(seen_at(130, 700), abs=3)
     assert seen_at(900, 500) == [255, 255, 255]  # the frame's hole shows the floor
     assert seen_at(720, 500) == pytest.approx(seen_at(900, 320), abs=3)
+
+
+def test_zones_are_drawn_under_the_elements_in_their_rules_colours_and_named(doc: dict) -> None:
+    zones = [
+        {
+            "name": "aisle",
+            "rule": "clear",
+            "outline": [[0, 400], [1400, 400], [1400, 600], [0, 600]],
+            "types": [],
+        },
+        {
+            "name": "store",
+            "rule": "holds",
+            "outline": [[100, 700], [700, 700], [400, 1000]],
+            "types": ["cobot"],
+        },
+    ]
+    doc["arena"]["zones"] = zones
+    svg = scenario_svg(doc)
+    root = ET.fromstring(svg)
+    group = next(g for g in root.iter(f"{SVG}g") if g.get("class") == "zones")
+    drawn = list(group.iter(f"{SVG}polygon"))
+    assert [len(p.get("points", "").split()) for p in drawn] == [4, 3]
+    assert [p.get("fill") for p in drawn] == ["#e57373", "#81c784"]
+    groups = [g.get("class") for g in root.iter(f"{SVG}g") if g.get("class")]
+    assert groups.index("zones") < groups.index("elements")
+    assert {"aisle", "store", "keep clear: aisle", "holds: store"} <= set(texts(svg))
+    # the PNG: the aisle's middle (no element there) faint red, where the floor without zones is white
+    (left, top), (right, bottom) = layout(parse(doc), 800).frame
+    x, y = round(left + (right - left) / 2), round(top + (bottom - top) * (1 - 500 / 1050))
+    r, g, b = Image.open(io.BytesIO(scenario_png(doc, pixels=800))).convert("RGB").getpixel((x, y))
+    assert r > g + 20 and r > b + 20 and g > 150
+    plain = Image.open(io.BytesIO(scenario_png(document(*doc["elements"]), pixels=800))).convert("RGB")
+    assert plain.getpixel((x, y)) == (255, 255, 255)
