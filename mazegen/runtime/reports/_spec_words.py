@@ -9,8 +9,8 @@ apply: a truncation spec has no tournament size.
 from __future__ import annotations
 
 from mazegen.fitness_terms import term_kind
-from mazegen.spec import Arena, Evolution, FitnessTerm, Scenario, Spec
-from mazegen.text import number
+from mazegen.spec import Arena, Evolution, FitnessTerm, Scenario, Spec, Zone
+from mazegen.text import number, quoted
 
 _INDENT = "    "
 SUITE_EVOLUTION = ("genome", "crossover", "mutation", "codons", "wraps", "consume")
@@ -51,14 +51,25 @@ def evolution_words(evolution: Evolution, *, only: tuple[str, ...] | None = None
 
 
 def arena_words(arena: Arena) -> list[str]:
-    """The ``arena`` block's settings."""
-    words = [
-        f"size {number(arena.width)} x {number(arena.height)} {arena.unit}",
+    """The ``arena`` block's settings: its size or map, task, robot, grid and zones."""
+    if arena.base is not None:
+        unknown = [] if arena.base.unknown == "blocked" else ["unknown free"]
+        words = [f"map {quoted(arena.base.source)} {arena.unit}", *unknown]
+    else:
+        words = [f"size {number(arena.width)} x {number(arena.height)} {arena.unit}"]
+    words += [
         f"start ({number(arena.start[0])}, {number(arena.start[1])})",
         f"goal ({number(arena.goal[0])}, {number(arena.goal[1])})",
         f"robot radius {number(arena.robot_radius)}",
     ]
-    return words + ([f"grid {number(arena.grid)}"] if arena.grid is not None else [])
+    words += [f"grid {number(arena.grid)}"] if arena.grid is not None else []
+    return words + [_zone_words(zone) for zone in arena.zones]
+
+
+def _zone_words(zone: Zone) -> str:
+    corners = " ".join(f"({number(x)}, {number(y)})" for x, y in zone.outline)
+    rule = "keep clear" if zone.rule == "clear" else f"{zone.rule} {', '.join(zone.types)}"
+    return f"zone {zone.name} polygon {corners} {rule}"
 
 
 def _steps(values: tuple[int, ...]) -> str:
