@@ -54,7 +54,7 @@ def hall(properties: str = 'map "hall.yaml" cm', *, start: str = "(50, 50)") -> 
 
 # (name, text, expected line:col, expected message fragment)
 BAD_SPECS = [
-    ("syntax: unknown keyword", "elemnt box { }\n", "1:1", "expected 'import', 'element'"),
+    ("syntax: unknown keyword", "elemnt box { }\n", "1:1", "expected 'units', 'import', 'element'"),
     (
         "syntax: range needs a number",
         spec(element="element box { shape square size 20.. }\n"),
