@@ -11,7 +11,6 @@ from mazegen.dsl.bounds import MAX_LENGTH, at_most
 from mazegen.dsl.located import fail, single_properties
 from mazegen.dsl.zones import convert_zones
 from mazegen.errors import MazeError
-from mazegen.maps import point_on_walls, read_base_map
 from mazegen.spec import METRES_PER_UNIT, Arena, BaseMap, task_point_problem
 from mazegen.text import quoted
 
@@ -59,6 +58,8 @@ def convert_arena(decl: Any) -> Arena:
         point = props[key].point
         problem = task_point_problem(label, (point.x, point.y), width, height, radius)
         if problem is None and base is not None:
+            from mazegen.maps import point_on_walls  # numpy: only for an arena on a map
+
             problem = point_on_walls(base, label, (point.x, point.y), radius)
         if problem is not None:
             fail(point, problem)
@@ -88,6 +89,8 @@ def _base(prop: Any, unknown: Any) -> BaseMap:
         fail(prop, f"no map file {quoted(prop.file)} (looked for {path})")
     if path.suffix.lower() not in (".yaml", ".yml"):
         fail(prop, f"map {quoted(prop.file)}: give a ROS map_server map's .yaml (its image beside it)")
+    from mazegen.maps import read_base_map  # numpy and the image readers: only for an arena on a map
+
     try:
         base = read_base_map(
             path,
