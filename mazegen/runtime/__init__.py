@@ -76,11 +76,18 @@ POLICY_KERNEL = "_step._apply"
 """The kernel that steps the robots of a user's policy."""
 
 
+ARENA_KERNELS = ("_cspace._walls_kernel", "_zones._zones_kernel")
+"""The kernels that find elements on an arena map's walls and in its zones where they may not stand."""
+
+
 def run_kernels(spec: Spec) -> tuple[str, ...]:
-    """The kernels every run of ``spec`` calls: a run's, and the simulator's for each controller its
-    drive terms name (a spec without drive terms loads none of the simulator)."""
+    """The kernels every run of ``spec`` calls: a run's, those of its arena's map and zones, and the
+    simulator's for each controller its drive terms name (a spec without drive terms loads none of the
+    simulator)."""
+    walls, zones = ARENA_KERNELS
+    arena = (walls,) * (spec.arena.base is not None) + (zones,) * bool(spec.arena.zones)
     drives = {CONTROLLER_KERNELS.get(name, POLICY_KERNEL) for name in spec.drive_controllers}
-    return EVERY_RUN_KERNELS + tuple(sorted(drives))
+    return EVERY_RUN_KERNELS + arena + tuple(sorted(drives))
 
 
 _FOUND: set[tuple[str, str]] = set()

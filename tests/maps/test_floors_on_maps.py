@@ -90,3 +90,24 @@ def test_the_warehouse_examples_floors_keep_its_zones_and_walls():
                 racks += 1
                 assert any(area.buffer(1e-5).covers(outline) for area in holding), element
     assert racks > 0
+
+
+def test_a_first_run_on_a_map_with_zones_waits_for_their_kernels(tmp_path):
+    """The kernels a run of a spec on a map with zones names are those its run leaves in the cache
+    (so a first run's compile note covers them)."""
+    from pathlib import Path
+
+    import numba
+
+    from mazegen.runtime import ARENA_KERNELS, EVERY_RUN_KERNELS, run_kernels
+
+    write_map(tmp_path, hall_pixels())
+    zone = "zone lane rect (250, 100) (390, 160) keep clear"
+    (tmp_path / "spec.maze").write_text(hall_spec(extra=zone))
+    spec = mazegen.load(tmp_path / "spec.maze")
+    assert run_kernels(spec) == EVERY_RUN_KERNELS + ARENA_KERNELS
+    (tmp_path / "plain.maze").write_text(hall_spec().replace('map "hall.yaml" cm', "size 400 x 300 cm"))
+    assert run_kernels(mazegen.load(tmp_path / "plain.maze")) == EVERY_RUN_KERNELS
+    mazegen.run(spec, out_dir=tmp_path / "run", catalog=False)
+    for kernel in run_kernels(spec):
+        assert any(Path(numba.config.CACHE_DIR).rglob(f"{kernel}-*.nbi")), kernel
