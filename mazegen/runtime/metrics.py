@@ -59,6 +59,8 @@ def elements_outside(pop: Population) -> np.ndarray:
     arrays = (pop.table, pop.element_ids, pop.n_elements, pop.params)
     size = (arena.width, arena.height)
     outside = elements_outside_of(*arrays, *size).astype(np.float64)
+    if arena.base is None and not arena.zones:
+        return outside
     misplaced = np.zeros(pop.element_ids.shape, bool)  # inside the rectangle, where they may not stand
     if arena.base is not None:
         misplaced |= elements_on_walls(*arrays, grid_of(arena), size)

@@ -50,6 +50,8 @@ class Grid:
         goal_cell: The same for the goal.
         base: ``uint64[rows, words]``: the cells an arena's base map blocks (its walls, before the
             robot's disc widens them into ``border``), all clear without a map.
+        wall_sums: ``int64[rows + 1, cols + 1]``: wall cells below and left of each cell corner (a
+            summed-area table: the wall cells of any rectangle of cells in four reads).
     """
 
     cell: float
@@ -63,6 +65,7 @@ class Grid:
     start_cell: tuple[int, int]
     goal_cell: tuple[int, int]
     base: np.ndarray
+    wall_sums: np.ndarray
 
     @classmethod
     def from_arena(cls, arena: Arena) -> Grid:
@@ -100,6 +103,7 @@ class Grid:
             ends[0],
             ends[1],
             _bit_rows(walls, words, pad=False),
+            np.pad(walls.cumsum(axis=0).cumsum(axis=1), ((1, 0), (1, 0))),
         )
 
 
@@ -362,13 +366,9 @@ def elements_on_walls(
     """
     ids, n_el, prm = population_arrays(table, element_ids, n_elements, params)
     out = np.zeros(ids.shape, np.bool_)
-    walls = unpack(grid.base, grid.cols)
-    if ids.shape[0] and walls.any():
-        # Wall cells in any rectangle of cells at once: elements whose box holds none are not rasterised.
-        sums = np.zeros((grid.rows + 1, grid.cols + 1), np.int64)
-        sums[1:, 1:] = walls.cumsum(axis=0).cumsum(axis=1)
+    if ids.shape[0] and grid.wall_sums[-1, -1]:
         width, height = float(size[0]), float(size[1])
-        args = (table.shapes, ids, n_el, prm, grid_args(grid), sums, width, height, out)
+        args = (table.shapes, ids, n_el, prm, grid_args(grid), grid.wall_sums, width, height, out)
         in_blocks(_walls_kernel, ids.shape[0], *args)
     return out
 
@@ -392,7 +392,7 @@ def _walls_kernel(
             r0, r1 = max(math.floor(ebox[0, 1] / cell), 0), min(math.floor(ebox[0, 3] / cell), rows - 1)
             c0, c1 = max(math.floor(ebox[0, 0] / cell), 0), min(math.floor(ebox[0, 2] / cell), cols - 1)
             if sums[r1 + 1, c1 + 1] - sums[r0, c1 + 1] - sums[r1 + 1, c0] + sums[r0, c0] == 0:
-                continue  # no wall cell under its box
+                continue  # no wall cell under its box: not rasterised
             for p in range(n_parts[e]):
                 _mark_part(wv, 0, p, n_vertices[e, p], pbox[0, p], cell, rows, cols, marked)
             touches = False
