@@ -103,9 +103,43 @@ def _drive_words(term: FitnessTerm) -> str:
     return _weighted(f"{head} {term.metric}{span}", term)
 
 
+def _over_tasks(words: str, term: FitnessTerm) -> str:
+    """``words`` with how the term scores several tasks, unless it is the mean (the default)."""
+    return _weighted(words if term.tasks == "mean" else f"{words} tasks {term.tasks}", term)
+
+
 def _difficulty_words(term: FitnessTerm) -> str:
     level = {span: name for name, span in DIFFICULTY_LEVELS.items()}.get(term.target or (0.0, 0.0))
-    return _weighted(f"difficulty target {level}" if level else f"difficulty {_span(term)}", term)
+    return _over_tasks(f"difficulty target {level}" if level else f"difficulty {_span(term)}", term)
+
+
+def _task_closeness(measure: str, note: str) -> Callable[[FitnessTerm], tuple[str, str]]:
+    """The call of a term scoring the closeness of ``measure`` (``difficulty``, a path metric's name)
+    to its target: of the tasks' mean, or over the tasks as ``tasks worst`` or ``tasks all`` say."""
+
+    def call(term: FitnessTerm) -> tuple[str, str]:
+        if term.tasks == "mean":
+            of = "difficulty(pop)" if measure == "difficulty" else f"path_metric(pop, {measure!r})"
+            return f"metrics.closeness(metrics.{of}{_target(term)})", note
+        values = f"metrics.task_values(pop, {measure!r}){_target(term)}, {term.tasks!r}"
+        call = f"metrics.task_closeness(\n            {values}\n        )"
+        return call, f"{note}, over the tasks: {term.tasks}"
+
+    return call
+
+
+def _travel_call(term: FitnessTerm) -> tuple[str, str]:
+    """``travel total|worst``: how straight the tasks' paths are, or with ``below L`` how near their
+    total (or longest) length is to at most L."""
+    measure = term.metric or "total"
+    if term.limit is None:
+        note = "straight distance over path length, " + ("all tasks" if measure == "total" else "worst task")
+        return f"metrics.travel(pop, {measure!r})", note
+    call = f"metrics.closeness(metrics.travel_length(pop, {measure!r}), 0.0, {float(term.limit)!r})"
+    return (
+        call,
+        f"{'total' if measure == 'total' else 'longest'} path of the tasks, at most {number(term.limit)}",
+    )
 
 
 def _plugin_call(term: FitnessTerm) -> tuple[str, str]:
@@ -212,25 +246,24 @@ _ROWS = (
     TermKind(
         kind="difficulty",
         rule="DifficultyTerm",
-        syntax="difficulty target easy|medium|hard [weight W]",
+        syntax="difficulty target easy|medium|hard [tasks mean|worst|all] [weight W]",
         reads="survey",
         reward=True,
         function="difficulty",
-        call=_closeness("difficulty", "closeness to the difficulty target"),
+        call=_task_closeness("difficulty", "closeness to the difficulty target"),
         words=_difficulty_words,
     ),
     TermKind(
         kind="metric",
         rule="MetricTerm",
-        syntax="METRIC LO..HI [weight W]",
+        syntax="METRIC LO..HI [tasks mean|worst|all] [weight W]",
         reads="survey",
         reward=True,
         function="path_metric",
-        call=lambda term: (
-            f"metrics.closeness(metrics.path_metric(pop, {term.metric!r}){_target(term)})",
-            f"closeness of the path's {term.metric} to its target",
-        ),
-        words=lambda term: _weighted(f"{term.metric} {_span(term)}", term),
+        call=lambda term: _task_closeness(
+            term.metric or "", f"closeness of the path's {term.metric} to its target"
+        )(term),
+        words=lambda term: _over_tasks(f"{term.metric} {_span(term)}", term),
     ),
     TermKind(
         kind="diversity",
@@ -255,6 +288,28 @@ _ROWS = (
         function="coverage",
         call=_closeness("coverage", "occupied fraction near its target"),
         words=lambda term: _weighted(f"coverage {_span(term)}", term),
+    ),
+    TermKind(
+        kind="travel",
+        rule="TravelTerm",
+        syntax="travel total|worst [below L] [weight W]",
+        reads="path",
+        reward=True,
+        function="travel",
+        call=_travel_call,
+        words=lambda term: _weighted(
+            f"travel {term.metric}" + ("" if term.limit is None else f" below {number(term.limit)}"), term
+        ),
+    ),
+    TermKind(
+        kind="reachable",
+        rule="ReachableTerm",
+        syntax="reachable LO..HI [weight W]",
+        reads="occupancy",
+        reward=True,
+        function="reachable",
+        call=_closeness("reachable", "share of the free floor reachable from the start, near its target"),
+        words=lambda term: _weighted(f"reachable {_span(term)}", term),
     ),
     TermKind(
         kind="drive",

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -120,6 +121,39 @@ class Zone:
     types: tuple[str, ...] = ()
 
 
+MAX_TASKS = 1000
+"""The most tasks an arena may have, listed and drawn together."""
+
+
+@dataclass(frozen=True)
+class Station:
+    """A named pose of an arena where tasks start or end; ``heading`` in degrees, or None."""
+
+    name: str
+    point: Point
+    heading: float | None = None
+
+
+@dataclass(frozen=True)
+class Task:
+    """One start and goal a floor is measured and driven on; headings in degrees, or None."""
+
+    name: str
+    start: Point
+    goal: Point
+    start_heading: float | None = None
+    goal_heading: float | None = None
+
+    def start_poses(self, count: int) -> Any:
+        """``float64[count, 3]``: ``(x, y, theta)`` of ``count`` robots at the start, theta in radians,
+        for a task whose start has a heading; None for one without (the robot faces its path)."""
+        if self.start_heading is None:
+            return None
+        import numpy as np  # the spec is plain data: numpy only where poses are made
+
+        return np.tile([self.start[0], self.start[1], math.radians(self.start_heading)], (count, 1))
+
+
 @dataclass(frozen=True)
 class Arena:
     """The floor: a rectangle ``[0, width] x [0, height]`` with a start and goal.
@@ -127,7 +161,9 @@ class Arena:
     ``grid`` is the cell size of the occupancy grid that solvability and the
     difficulty metrics are computed on, or ``None`` for :attr:`cell`'s default.
     ``base`` is the map the floor is built on, or ``None`` for an empty rectangle; ``zones`` its named
-    areas.
+    areas. ``tasks`` are the floor's tasks when it has several (listed between ``stations`` or
+    drawn), the first one's start and goal being ``start`` and ``goal``; empty for a floor of one
+    task, ``start`` to ``goal``.
     """
 
     name: str
@@ -140,6 +176,17 @@ class Arena:
     grid: float | None = None
     base: BaseMap | None = None
     zones: tuple[Zone, ...] = ()
+    stations: tuple[Station, ...] = ()
+    tasks: tuple[Task, ...] = ()
+
+    @property
+    def every_task(self) -> tuple[Task, ...]:
+        """The floor's tasks: :attr:`tasks`, or the one from ``start`` to ``goal``."""
+        return self.tasks or (Task("start -> goal", self.start, self.goal),)
+
+    def for_task(self, task: Task) -> Arena:
+        """The floor with ``task`` as its only one: what the path search and the simulator see."""
+        return dataclasses.replace(self, start=task.start, goal=task.goal, stations=(), tasks=())
 
     @property
     def cell(self) -> float:
@@ -189,6 +236,8 @@ class Scenario:
             alternative already written in BNF (PonyGE2 dialect).
         max_elements: Placement slots; a derivation with more is invalid.
         placement: ``None`` for placement genes, else grammar placement.
+        required: ``(type, count, exactly)``: every floor has ``count`` elements of the type, exactly
+            or at least; its grammar derives them first, so every floor has them.
     """
 
     name: str
@@ -198,6 +247,7 @@ class Scenario:
     custom_rules: tuple[tuple[str, tuple[str, ...]], ...] = ()
     max_elements: int = 32
     placement: GrammarPlacement | None = None
+    required: tuple[tuple[str, int, bool], ...] = ()
 
 
 PATH_METRICS = (
@@ -247,7 +297,8 @@ class FitnessTerm:
     the metric of a ``metric`` term, ``entropy`` / ``types`` for a diversity term, a drive term's
     measure (one of :data:`DRIVE_MEASURES`) or a plug-in's name. A ``drive`` term reads how the robot
     fares under ``controllers`` (one name, two for ``disagree``); ``plugin`` says where a
-    plug-in's function comes from.
+    plug-in's function comes from. ``tasks`` (one of :data:`TASK_AGGREGATES`) says how a difficulty or
+    path-metric term scores a floor of several tasks.
     """
 
     kind: str
@@ -258,6 +309,7 @@ class FitnessTerm:
     metric: str | None = None
     controllers: tuple[str, ...] = ()
     plugin: PluginMetric | None = None
+    tasks: str = "mean"
 
     @property
     def key(self) -> str:
@@ -265,8 +317,14 @@ class FitnessTerm:
         drive term its controllers' and measure's (``dwa_fails``, ``dwa_purepursuit_disagree``)."""
         if self.kind == "drive":
             return "_".join(re.sub(r"\W", "_", name) for name in (*self.controllers, self.metric or ""))
+        if self.kind == "travel":
+            return f"travel_{self.metric}"
         return self.metric if self.kind in ("metric", "plugin") and self.metric else self.kind
 
+
+TASK_AGGREGATES = ("mean", "worst", "all")
+"""How a difficulty or path-metric term scores a floor of several tasks: the tasks' mean value against
+the target, the task farthest from it, or every task against it, their scores averaged."""
 
 DRIVE_MEASURES = ("fails", "time", "clearance", "disagree")
 """What a ``drive`` fitness term reads of the episodes (see docs/language.md)."""
@@ -532,8 +590,14 @@ class Spec:
             del body["robot"]["contact"]
         if body["arena"]["base"] is None:  # likewise before base maps and zones
             del body["arena"]["base"]
-        if not body["arena"]["zones"]:
-            del body["arena"]["zones"]
+        for key in ("zones", "stations", "tasks"):  # likewise before zones and tasks
+            if not body["arena"][key]:
+                del body["arena"][key]
+        if not body["scenario"]["required"]:
+            del body["scenario"]["required"]
+        for term in body["fitness"]:
+            if term["tasks"] == "mean":
+                del term["tasks"]
         return json.dumps(body, indent=2, sort_keys=True, allow_nan=False) + "\n"
 
     @classmethod
@@ -594,6 +658,11 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
             )
             for z in a.get("zones", ())
         ),
+        tuple(Station(t["name"], _pair(t["point"]), t["heading"]) for t in a.get("stations", ())),
+        tuple(
+            Task(t["name"], _pair(t["start"]), _pair(t["goal"]), t["start_heading"], t["goal_heading"])
+            for t in a.get("tasks", ())
+        ),
     )
     s = data["scenario"]
     placement = s["placement"]
@@ -609,6 +678,7 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         else GrammarPlacement(
             tuple(placement["sizes"]), float(placement["scale"]), tuple(placement["positions"])
         ),
+        required=tuple((str(name), int(count), bool(exact)) for name, count, exact in s.get("required", ())),
     )
     fitness = tuple(
         FitnessTerm(

@@ -54,6 +54,10 @@ OVERRIDES = {
         "mazegen sweep examples/table1/exp3.maze examples/table1/exp5.maze --set population=50,100 --runs 1",
         "180 runs of Table 1 take minutes: smaller populations, one run per cell",
     ),
+    "mazegen run examples/layout.maze -o runs/layout": (
+        "mazegen run examples/layout.maze -o runs/layout --population 100 --generations 2",
+        "the layout example's 30 generations of 500 take seconds the page need not spend",
+    ),
 }
 """Beginnings of commands replaced here, with the replacement and the reason."""
 

@@ -28,7 +28,7 @@ from mazegen.text import printable
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents import Drive, Floor, Floors, Summary
-    from mazegen.spec import Spec
+    from mazegen.spec import Spec, Task
 
 
 def controller_names(given: Sequence[str]) -> list[str]:
@@ -120,7 +120,7 @@ def drive(
         loaded, failed = _load_floors(files, resolved)
         with noting_compiles(say, "drive", DRIVE_SECONDS):
             floors_of, drives = drive_floors(
-                loaded, names, no_path=lambda file, batch: say(no_path_line(file, batch))
+                loaded, names, no_path=lambda file, batch, task: say(no_path_line(file, batch, task))
             )
         if as_json:
             for row in drives:
@@ -181,12 +181,14 @@ def _source_files(sources: Sequence[Path]) -> list[tuple[Path, Path]]:
     return list(found.values())
 
 
-def no_path_line(file: str, floors: Floors) -> str:
-    """The line that says a floor is not driven."""
+def no_path_line(file: str, floors: Floors, task: Task | None) -> str:
+    """The line that says a floor (or one of its tasks) is not driven."""
     arena = floors.spec.arena
-    start, goal = (f"({x:g}, {y:g})" for x, y in (arena.start, arena.goal))
+    named = "" if task is None else f"task {printable(task.name)}: "
+    ends = (arena.start, arena.goal) if task is None else (task.start, task.goal)
+    start, goal = (f"({x:g}, {y:g})" for x, y in ends)
     return (
-        f"{printable(file)}: no path for a robot of radius {arena.robot_radius:g} {arena.unit} "
+        f"{printable(file)}: {named}no path for a robot of radius {arena.robot_radius:g} {arena.unit} "
         f"from start {start} to goal {goal}: not driven"
     )
 
@@ -198,6 +200,7 @@ def drive_table(drives: Sequence[Drive], unit: str) -> str:
     rows = [
         {
             "file": result.file,
+            "task": result.task,
             "controller": result.controller,
             "outcome": result.outcome,
             "time": round(result.time, 2) if result.driven else None,
@@ -209,6 +212,7 @@ def drive_table(drives: Sequence[Drive], unit: str) -> str:
     ]
     columns = [
         ("file", "file"),
+        *([("task", "task")] if any(result.task is not None for result in drives) else []),
         ("controller", "controller"),
         ("outcome", "outcome"),
         ("time", "time s"),

@@ -19,6 +19,7 @@ import click
 from mazegen.cli.drive import controller_names, controller_option
 from mazegen.cli.errors import reports_errors, skip_file
 from mazegen.errors import MazeError
+from mazegen.text import printable
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents import Scored
@@ -69,7 +70,8 @@ def score(spec: Path, scenarios: tuple[Path, ...], as_json: bool, controllers: t
         for line in scenario_lines(scored[0], resolved.arena.unit, resolved.arena.cell):
             click.echo(line)
         for drive in scored[0].drives:
-            click.echo(f"drive {drive.controller}\t{drive.line(resolved.arena.unit)}")
+            task = "" if drive.task is None else f" (task {printable(drive.task)})"
+            click.echo(f"drive {drive.controller}{task}\t{drive.line(resolved.arena.unit)}")
     elif not as_json and scored:
         click.echo(score_table(scored))
     if failed:
@@ -89,13 +91,17 @@ def score_table(scored: list[Scored]) -> str:
             "solvable": "yes" if result.measured["solvable"] else "no",
             "difficulty": result.measured["difficulty"],
             **{f"term {key}": value + 0.0 for key, value in result.terms.items()},
-            **{f"drive {drive.controller}": drive.outcome for drive in result.drives},
+            **{f"drive {drive.controller}": drive.outcome for drive in result.drives if drive.task is None},
         }
         for result in scored
     ]
     columns = [(name, name) for name in ("file", "fitness", "elements", "solvable", "difficulty")]
     columns += [(f"term {key}", f"term {key}") for key in keys]
-    columns += [(f"drive {drive.controller}", f"drive {drive.controller}") for drive in scored[0].drives]
+    columns += [
+        (f"drive {drive.controller}", f"drive {drive.controller}")
+        for drive in scored[0].drives
+        if drive.task is None
+    ]
     return text_table(rows, columns, digits=4)
 
 
@@ -107,7 +113,19 @@ def scenario_lines(result: Scored, unit: str, cell: float) -> list[str]:
         f"elements\t{result.elements}",
     ]
     lines += [f"term {key}\t{value + 0.0:g}" for key, value in result.terms.items()]  # + 0.0: no -0
-    return lines + metric_lines(result.measured, unit, cell)
+    return lines + metric_lines(result.measured, unit, cell) + task_lines(result, unit)
+
+
+def task_lines(result: Scored, unit: str) -> list[str]:
+    """One line per task of a floor of several: its path's length and difficulty, or no path."""
+    lines = []
+    for name, measured in result.tasks:
+        if not measured["solvable"]:
+            lines.append(f"task {printable(name)}\tno path")
+            continue
+        length, difficulty = measured["path_length"], measured["difficulty"]
+        lines.append(f"task {printable(name)}\tpath {length:.1f} {unit}, difficulty {difficulty:.3f} / 100")
+    return lines
 
 
 def metric_lines(measured: dict[str, bool | float | None], unit: str, cell: float) -> list[str]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -9,10 +10,13 @@ from textx import get_location
 
 from mazegen.dsl.bounds import MAX_LENGTH, at_most
 from mazegen.dsl.located import fail, single_properties
+from mazegen.dsl.tasks import TASK_PROPERTIES, point_problem, with_tasks
 from mazegen.dsl.zones import convert_zones
 from mazegen.errors import MazeError
-from mazegen.spec import METRES_PER_UNIT, Arena, BaseMap, task_point_problem
+from mazegen.spec import METRES_PER_UNIT, Arena, BaseMap
 from mazegen.text import quoted
+
+_END = {"StartProperty": "start", "GoalProperty": "goal"}
 
 MAX_GRID_CELLS = 1024
 """The most cells a side of the navigation grid may have."""
@@ -22,7 +26,8 @@ def convert_arena(decl: Any) -> Arena:
     """Check one ``arena`` block and convert it (reading its map, when it names one)."""
     what = f"arena '{decl.name}'"
     zone_props = [p for p in decl.properties if type(p).__name__ == "ZoneProperty"]
-    props = single_properties([p for p in decl.properties if p not in zone_props], what)
+    task_props = [p for p in decl.properties if type(p).__name__ in TASK_PROPERTIES]
+    props = single_properties([p for p in decl.properties if p not in zone_props + task_props], what)
     if "UnknownCells" in props and "ArenaMap" not in props:
         fail(
             props["UnknownCells"], "'unknown' says what a map's unknown cells are, and this arena has no map"
@@ -31,8 +36,22 @@ def convert_arena(decl: Any) -> Arena:
         fail(props["ArenaSize"], "an arena built on a map takes its size from the map: remove 'size'")
     if "ArenaSize" not in props and "ArenaMap" not in props:
         fail(decl, f"{what} has no size (add e.g. 'size 1400 x 1050 cm', or 'map \"hall.yaml\"')")
+    ends = [props[key] for key in ("StartProperty", "GoalProperty") if key in props]
+    tasks = [p for p in task_props if type(p).__name__ != "StationProperty"]
+    if tasks and ends:
+        fail(
+            ends[0],
+            f"an arena with tasks takes its starts and goals from them: make this "
+            f"{_END[type(ends[0]).__name__]} a station and name it in a task ('station dock (X, Y)', "
+            "'task dock -> B')",
+        )
+    if task_props and not tasks:
+        fail(
+            task_props[0],
+            f"station '{task_props[0].name}' is in no task (add e.g. 'task {task_props[0].name} -> B')",
+        )
     for key, example in (("StartProperty", "start (60, 60)"), ("GoalProperty", "goal (1340, 990)")):
-        if key not in props:
+        if key not in props and not tasks:
             fail(decl, f"{what} has no {example.split()[0]} (add e.g. '{example}')")
     base = _base(props["ArenaMap"], props.get("UnknownCells")) if "ArenaMap" in props else None
     if base is not None:
@@ -53,19 +72,6 @@ def convert_arena(decl: Any) -> Arena:
         fail(props["RobotProperty"], f"robot radius must not be negative, got {radius:g}")
     if "RobotProperty" in props:
         at_most(props["RobotProperty"], radius, MAX_LENGTH, "robot radius")
-    points = {}
-    for key, label in (("StartProperty", "start"), ("GoalProperty", "goal")):
-        point = props[key].point
-        problem = task_point_problem(label, (point.x, point.y), width, height, radius)
-        if problem is None and base is not None:
-            from mazegen.maps import point_on_walls  # numpy: only for an arena on a map
-
-            problem = point_on_walls(base, label, (point.x, point.y), radius)
-        if problem is not None:
-            fail(point, problem)
-        points[label] = (point.x, point.y)
-    if points["start"] == points["goal"]:
-        fail(props["GoalProperty"], "start and goal are the same point")
     grid = props["GridProperty"].cell if "GridProperty" in props else None
     if grid is not None and not 0 < grid <= min(width, height) / 4:
         fail(
@@ -75,7 +81,18 @@ def convert_arena(decl: Any) -> Arena:
     if grid is not None and max(width, height) / grid > MAX_GRID_CELLS:
         fail(props["GridProperty"], f"grid cell {grid:g} makes more than {MAX_GRID_CELLS} cells on a side")
     zones = convert_zones(zone_props, width, height)
-    return Arena(decl.name, width, height, unit, points["start"], points["goal"], radius, grid, base, zones)
+    arena = Arena(decl.name, width, height, unit, (0.0, 0.0), (0.0, 0.0), radius, grid, base, zones)
+    if tasks:
+        return with_tasks(arena, task_props)
+    for key, label in (("StartProperty", "start"), ("GoalProperty", "goal")):
+        point = props[key].point
+        problem = point_problem(arena, label, (point.x, point.y))
+        if problem is not None:
+            fail(point, problem)
+    start, goal = ((props[key].point.x, props[key].point.y) for key in ("StartProperty", "GoalProperty"))
+    if start == goal:
+        fail(props["GoalProperty"], "start and goal are the same point")
+    return dataclasses.replace(arena, start=start, goal=goal)
 
 
 def _base(prop: Any, unknown: Any) -> BaseMap:

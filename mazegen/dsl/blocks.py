@@ -8,6 +8,7 @@ from typing import Any
 from mazegen.dsl.bounds import MAX_LENGTH, MAX_SLOTS, MAX_TARGET, MAX_TERMINALS, MAX_WEIGHT, at_most
 from mazegen.dsl.located import check_range, fail, single_properties, suggestion, where
 from mazegen.dsl.plugin_terms import plugin_term
+from mazegen.dsl.required import REQUIRED_PROPERTY, required_counts
 from mazegen.dsl.robot import drive_controllers
 from mazegen.fitness_terms import TERMS
 from mazegen.spec import (
@@ -109,7 +110,8 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
     if decl.arena not in arenas:
         fail(decl, f"unknown arena '{decl.arena}'{suggestion(decl.arena, arenas)}")
     arena = arenas[decl.arena]
-    props = single_properties(decl.properties, what)
+    needed = [p for p in decl.properties if type(p).__name__ == REQUIRED_PROPERTY]
+    props = single_properties([p for p in decl.properties if p not in needed], what)
     names: list[str] = []
     if "ElementsProperty" in props:
         for use in props["ElementsProperty"].elements:
@@ -149,7 +151,8 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
         at_most(prop, scale, MAX_LENGTH, "scale")
         at_most(prop, sizes[-1] * scale, MAX_LENGTH, f"sizes up to {sizes[-1]} x scale {scale:g}")
         placement = GrammarPlacement(sizes, scale, positions)
-    return Scenario(decl.name, decl.arena, tuple(names), style, custom, max_elements, placement)
+    required = required_counts(needed, names, style, max_elements)
+    return Scenario(decl.name, decl.arena, tuple(names), style, custom, max_elements, placement, required)
 
 
 def convert_fitness(decl: Any | None, elements: tuple[str, ...]) -> tuple[FitnessTerm, ...]:
@@ -192,7 +195,14 @@ def _fitness_term(term: Any, elements: tuple[str, ...]) -> FitnessTerm:
         fail(term, "a size limit needs 'reject' or 'penalty W'")
     if kind == "outside" and getattr(term, "allow", False):
         weight = 0.0
-    return FitnessTerm(kind, weight, limit, reject, _target(term), metric, controllers)
+    bound = getattr(term, "bound", None)
+    if bound is not None:
+        if bound <= 0:
+            fail(term, f"travel below a length: it must be positive, got {bound:g}")
+        at_most(term, bound, MAX_LENGTH, "travel bound")
+        limit = bound
+    tasks = getattr(term, "tasks", None) or "mean"
+    return FitnessTerm(kind, weight, limit, reject, _target(term), metric, controllers, tasks=tasks)
 
 
 def _target(term: Any) -> tuple[float, float] | None:
@@ -209,8 +219,8 @@ def _target(term: Any) -> tuple[float, float] | None:
         fail(span, f"a target range cannot go below 0, got {span.low:g}..{span.high:g}")
     if span.high > MAX_TARGET:
         fail(span, f"a target range cannot go above {MAX_TARGET}, got {span.low:.15g}..{span.high:.15g}")
-    if getattr(term, "kind", None) == "coverage" and span.high > 1:
-        fail(span, f"coverage is a fraction of the floor (0..1), got {span.low:g}..{span.high:g}")
+    if getattr(term, "kind", None) in ("coverage", "reachable") and span.high > 1:
+        fail(span, f"{term.kind} is a fraction of the floor (0..1), got {span.low:g}..{span.high:g}")
     return (float(span.low), float(span.high))
 
 

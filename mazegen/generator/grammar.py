@@ -15,6 +15,7 @@ COMPOSED = "<composed>"
 ELEMENT = "<element>"
 SIZE = "<size>"
 NUMBER = "<number>"
+MORE = "<more>"
 
 
 def _call(name: str, placement: GrammarPlacement | None, inner: str | None, *, empty_parens: bool) -> str:
@@ -36,26 +37,53 @@ def _placement_rules(placement: GrammarPlacement | None) -> Rules:
 def scenario_rules(spec: Spec) -> Rules:
     """Return the grammar's rules; the first rule is the start rule."""
     scenario = spec.scenario
-    names = scenario.elements
     placement = scenario.placement
     if scenario.grammar == "custom":
         return [(lhs, list(alternatives)) for lhs, alternatives in scenario.custom_rules]
-    if scenario.grammar == "nested":
-        rules = [
-            (START, [_call(n, placement, None, empty_parens=False) for n in names] + [COMPOSED]),
-            (COMPOSED, [_call(n, placement, START, empty_parens=False) for n in names]),
+    exact = {name for name, _, exactly in scenario.required if exactly}
+    names = [name for name in scenario.elements if name not in exact]
+    start = MORE if scenario.required else START
+    rules = _style_rules(scenario.grammar, names, placement, start) if names else []
+    if scenario.required:
+        rules = [(START, _required_alternatives(spec, names)), *rules]
+    return rules + _placement_rules(placement)
+
+
+def _style_rules(style: str, names: list[str], placement: GrammarPlacement | None, start: str) -> Rules:
+    """The rules of a grammar ``style`` deriving any number of ``names``, from ``start``."""
+    if style == "nested":
+        return [
+            (start, [_call(n, placement, None, empty_parens=False) for n in names] + [COMPOSED]),
+            (COMPOSED, [_call(n, placement, start, empty_parens=False) for n in names]),
         ]
-    elif scenario.grammar == "flat":
-        rules = [
+    if style == "flat":
+        return [
             (
-                START,
+                start,
                 [_call(n, placement, None, empty_parens=True) for n in names]
-                + [_call(n, placement, START, empty_parens=True) for n in names],
+                + [_call(n, placement, start, empty_parens=True) for n in names],
             )
         ]
-    else:  # list
-        rules = [
-            (START, [ELEMENT, f"{ELEMENT} {START}"]),
-            (ELEMENT, [_call(n, placement, None, empty_parens=False) for n in names]),
-        ]
-    return rules + _placement_rules(placement)
+    return [  # list
+        (start, [ELEMENT, f"{ELEMENT} {start}"]),
+        (ELEMENT, [_call(n, placement, None, empty_parens=False) for n in names]),
+    ]
+
+
+def _required_alternatives(spec: Spec, names: list[str]) -> list[str]:
+    """The start rule of a scenario with required elements: those elements first, in the order the
+    spec requires them, then any number of the others (``<more>``, whose rules are the style's) or,
+    as a second alternative, none."""
+    scenario = spec.scenario
+    placement, flat = scenario.placement, scenario.grammar == "flat"
+    needed = [name for name, count, _ in scenario.required for _ in range(count)]
+    if scenario.grammar == "list":
+        calls = [_call(n, placement, None, empty_parens=False) for n in needed]
+        return [" ".join([*calls, MORE]), " ".join(calls)] if names else [" ".join(calls)]
+    alternatives = []
+    for inner in ([MORE] if names else []) + [None]:
+        derived = inner
+        for k, name in enumerate(reversed(needed)):
+            derived = _call(name, placement, derived, empty_parens=flat or k > 0)
+        alternatives.append(str(derived))
+    return alternatives

@@ -80,14 +80,20 @@ ARENA_KERNELS = ("_cspace._walls_kernel", "_zones._zones_kernel")
 """The kernels that find elements on an arena map's walls and in its zones where they may not stand."""
 
 
+REACHABLE_KERNEL = "_connectivity._reachable_all"
+"""The kernel of the ``reachable`` term: the share of the free floor joined to the start."""
+
+
 def run_kernels(spec: Spec) -> tuple[str, ...]:
-    """The kernels every run of ``spec`` calls: a run's, those of its arena's map and zones, and the
+    """The kernels every run of ``spec`` calls: a run's, those of its arena's map and zones, the
+    ``reachable`` term's, and the
     simulator's for each controller its drive terms name (a spec without drive terms loads none of the
     simulator)."""
     walls, zones = ARENA_KERNELS
     arena = (walls,) * (spec.arena.base is not None) + (zones,) * bool(spec.arena.zones)
     drives = {CONTROLLER_KERNELS.get(name, POLICY_KERNEL) for name in spec.drive_controllers}
-    return EVERY_RUN_KERNELS + arena + tuple(sorted(drives))
+    reachable = (REACHABLE_KERNEL,) * any(term.kind == "reachable" for term in spec.fitness)
+    return EVERY_RUN_KERNELS + arena + reachable + tuple(sorted(drives))
 
 
 _FOUND: set[tuple[str, str]] = set()

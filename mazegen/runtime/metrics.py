@@ -8,6 +8,7 @@ individual is not driven or its floor has no path.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -20,9 +21,9 @@ from mazegen.runtime.engine import SX, SY, Population
 from mazegen.runtime.geometry import ZoneArrays, elements_off_zones, elements_on_walls, grid_of
 from mazegen.runtime.geometry import elements_outside as elements_outside_of
 from mazegen.runtime.geometry import overlapping_pairs as overlapping_pairs_of
-from mazegen.runtime.navigation import navigation_of, reach_of, survey_of
+from mazegen.runtime.navigation import navigation_of, reach_of, reachable_of, survey_of, task_views
 from mazegen.runtime.plugin_view import Floors
-from mazegen.spec import Robot, robot_for
+from mazegen.spec import Robot, Task, robot_for
 
 if TYPE_CHECKING:
     from mazegen.runtime.simulation import Episodes
@@ -71,29 +72,73 @@ def elements_outside(pop: Population) -> np.ndarray:
 
 
 def unsolvable(pop: Population) -> np.ndarray:
-    """1 where a valid scenario has no path from start to goal for the robot, else 0."""
-    return (pop.valid & ~reach_of(pop).solvable).astype(np.float64)
+    """The share of its tasks a valid scenario has no path for, for the robot: 1 or 0 for one task."""
+    views = task_views(pop)
+    unsolved = sum((pop.valid & ~reach_of(view).solvable).astype(np.float64) for view in views)
+    return np.asarray(unsolved / len(views), dtype=np.float64)
 
 
 def path_length(pop: Population) -> np.ndarray:
-    """Length of the robot's path from start to goal in arena units, NaN when there is none."""
+    """Length of the robot's path from start to goal in arena units (the tasks' mean), NaN when there
+    is none."""
     return navigation_of(pop).path_length
 
 
 def tortuosity(pop: Population) -> np.ndarray:
-    """Path length over the straight-line distance from start to goal (1 = straight), NaN when unsolvable."""
-    nav = navigation_of(pop)
-    return nav.path_length / nav.straight
+    """Path length over the straight-line distance from start to goal (1 = straight; the tasks' mean),
+    NaN when unsolvable."""
+    ratios = [nav.path_length / nav.straight for nav in (navigation_of(view) for view in task_views(pop))]
+    return np.mean(np.stack(ratios), axis=0)
 
 
 def difficulty(pop: Population) -> np.ndarray:
-    """Difficulty score, 0 (open) to 100 (hard), NaN when unsolvable (see :mod:`difficulty`)."""
+    """Difficulty score, 0 (open) to 100 (hard), the tasks' mean, NaN when unsolvable (see
+    :mod:`difficulty`)."""
     return survey_of(pop).difficulty
 
 
 def path_metric(pop: Population, name: str) -> np.ndarray:
-    """One difficulty metric of the robot's path (``tortuosity``, ``clearance``…), NaN when unsolvable."""
+    """One difficulty metric of the robot's path (``tortuosity``, ``clearance``…), the tasks' mean, NaN
+    when unsolvable."""
     return survey_of(pop).metric(name)
+
+
+def task_values(pop: Population, name: str) -> np.ndarray:
+    """``float64[tasks, N]``: the difficulty (``name`` ``difficulty``) or a path metric of each task of
+    every individual, NaN where the task is unsolvable."""
+    surveys = [survey_of(view) for view in task_views(pop)]
+    return np.stack([s.difficulty if name == "difficulty" else s.metric(name) for s in surveys])
+
+
+def task_closeness(values: np.ndarray, low: float, high: float, how: str) -> np.ndarray:
+    """:func:`closeness` of each task's ``values`` (``float64[tasks, N]``) to ``[low, high]``, the
+    worst task's (``worst``) or their mean (``all``); ``mean`` scores the tasks' mean value."""
+    if how == "mean":
+        return closeness(np.mean(values, axis=0), low, high)
+    scores = closeness(values, low, high)
+    return scores.min(axis=0) if how == "worst" else scores.mean(axis=0)
+
+
+def travel(pop: Population, measure: str) -> np.ndarray:
+    """How directly the robot travels its tasks, 0..1: the tasks' straight distances over their path
+    lengths, summed (``total``), or the least of a task's (``worst``); 0 where a task has no path."""
+    navigations = [navigation_of(view) for view in task_views(pop)]
+    lengths = np.stack([nav.path_length for nav in navigations])
+    straight = np.array([nav.straight for nav in navigations])[:, None]
+    ratio = straight.sum() / lengths.sum(axis=0) if measure == "total" else (straight / lengths).min(axis=0)
+    return np.nan_to_num(ratio, nan=0.0)
+
+
+def travel_length(pop: Population, measure: str) -> np.ndarray:
+    """The tasks' path lengths summed (``total``) or the longest (``worst``), arena units; NaN where a
+    task has no path."""
+    lengths = np.stack([navigation_of(view).path_length for view in task_views(pop)])
+    return lengths.sum(axis=0) if measure == "total" else lengths.max(axis=0)
+
+
+def reachable(pop: Population) -> np.ndarray:
+    """The share of the floor's free cells the robot can reach from its start (1: no closed pocket)."""
+    return reachable_of(pop)
 
 
 def coverage(pop: Population) -> np.ndarray:
@@ -156,14 +201,18 @@ def _robot(pop: Population) -> Robot:
     return pop.robot if pop.robot is not None else robot_for(pop.arena)
 
 
-def episodes_of(pop: Population, controller: str, driven: np.ndarray) -> Episodes:
-    """The episodes of ``controller`` on the ``driven`` individuals: driven once per population, however
-    many terms read them (kept in the population's ``measured``)."""
+def episodes_of(pop: Population, controller: str, driven: np.ndarray, task: Task | None = None) -> Episodes:
+    """The episodes of ``controller`` on the ``driven`` individuals (for one of the floor's tasks, ``pop``
+    its view, starting at its heading): driven once per population, however many terms read them
+    (kept in the population's ``measured``)."""
     key = f"drive {controller}"
     kept = pop.measured.get(key)
     if kept is None or not np.array_equal(kept[0], driven):
         robot = _robot(pop)
-        episodes = simulation.drive(pop, robot=robot, controller=robot.controller(controller), indices=driven)
+        starts = None if task is None else task.start_poses(driven.size)
+        episodes = simulation.drive(
+            pop, robot=robot, controller=robot.controller(controller), indices=driven, starts=starts
+        )
         kept = pop.measured[key] = (driven.copy(), episodes)
     return kept[1]
 
@@ -175,30 +224,58 @@ def _spread(pop: Population, driven: np.ndarray, values: np.ndarray, episodes: E
     return out
 
 
+def _over_tasks(
+    pop: Population, measure: Callable[[Population, Task | None], np.ndarray], *, worst: bool = False
+) -> np.ndarray:
+    """``measure`` of each task's episodes (its view, :func:`task_views`, and the task), their mean or,
+    with ``worst``, their least: a floor of several tasks drives each."""
+    tasks = pop.arena.tasks or (None,)
+    values = np.stack([measure(view, task) for task, view in zip(tasks, task_views(pop))])
+    return values.min(axis=0) if worst else values.mean(axis=0)
+
+
 def drive_fails(pop: Population, controller: str, driven: np.ndarray) -> np.ndarray:
-    """1 where ``controller``'s robot collides or times out, 0 where it arrives."""
-    episodes = episodes_of(pop, controller, driven)
-    return _spread(pop, driven, episodes.failed.astype(np.float64), episodes)
+    """1 where ``controller``'s robot collides or times out, 0 where it arrives (the share of the tasks
+    that fail)."""
+
+    def fails(view: Population, task: Task | None) -> np.ndarray:
+        episodes = episodes_of(view, controller, driven, task)
+        return _spread(view, driven, episodes.failed.astype(np.float64), episodes)
+
+    return _over_tasks(pop, fails)
 
 
 def drive_time(pop: Population, controller: str, driven: np.ndarray) -> np.ndarray:
-    """Time to the goal over the optimal time (BARN's AT / OT); a failure counts as the robot's
-    timeout factor, the most an episode may last."""
-    episodes = episodes_of(pop, controller, driven)
-    return _spread(pop, driven, episodes.time_ratio(_robot(pop).timeout), episodes)
+    """Time to the goal over the optimal time (BARN's AT / OT; the tasks' mean); a failure counts as the
+    robot's timeout factor, the most an episode may last."""
+
+    def time(view: Population, task: Task | None) -> np.ndarray:
+        episodes = episodes_of(view, controller, driven, task)
+        return _spread(view, driven, episodes.time_ratio(_robot(view).timeout), episodes)
+
+    return _over_tasks(pop, time)
 
 
 def drive_clearance(pop: Population, controller: str, driven: np.ndarray) -> np.ndarray:
-    """The closest approach of the robot's edge to an obstacle or the arena wall, arena units."""
-    episodes = episodes_of(pop, controller, driven)
-    return _spread(pop, driven, episodes.clearance, episodes)
+    """The closest approach of the robot's edge to an obstacle or the arena wall, arena units (on any
+    task)."""
+
+    def clearance(view: Population, task: Task | None) -> np.ndarray:
+        episodes = episodes_of(view, controller, driven, task)
+        return _spread(view, driven, episodes.clearance, episodes)
+
+    return _over_tasks(pop, clearance, worst=True)
 
 
 def drive_disagree(pop: Population, first: str, second: str, driven: np.ndarray) -> np.ndarray:
-    """1 where one controller arrives and the other fails, 0 where they fare alike."""
-    one, other = episodes_of(pop, first, driven), episodes_of(pop, second, driven)
-    differ = (one.failed != other.failed).astype(np.float64)
-    return _spread(pop, driven, differ, one)
+    """1 where one controller arrives and the other fails, 0 where they fare alike (the share of the
+    tasks where they differ)."""
+
+    def disagree(view: Population, task: Task | None) -> np.ndarray:
+        one, other = episodes_of(view, first, driven, task), episodes_of(view, second, driven, task)
+        return _spread(view, driven, (one.failed != other.failed).astype(np.float64), one)
+
+    return _over_tasks(pop, disagree)
 
 
 def plugin_metric(

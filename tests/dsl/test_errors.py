@@ -52,6 +52,11 @@ def hall(properties: str = 'map "hall.yaml" cm', *, start: str = "(50, 50)") -> 
     return f"arena floor {{ {properties} start {start} goal (150, 110) robot radius 20 }}\n"
 
 
+def tasks(body: str, *, unit: str = "cm") -> str:
+    """An arena of tasks: ``body`` its stations and tasks."""
+    return f"arena floor {{ size 1000 x 800 {unit} robot radius 20\n{body} }}\n"
+
+
 # (name, text, expected line:col, expected message fragment)
 BAD_SPECS = [
     ("syntax: unknown keyword", "elemnt box { }\n", "1:1", "expected 'units', 'import', 'element'"),
@@ -938,6 +943,125 @@ BAD_SPECS = [
         spec(tail='fitness { metric dock_clearance from "dock.py" metric dock_clearance from "dock.py" }\n'),
         "4:48",
         "duplicate fitness term 'dock_clearance' (first given at ",
+    ),
+    (
+        "tasks: a task of an unknown station",
+        spec(arena=tasks("station dock (50, 50) station line (900, 700) task dock -> lne")),
+        "3:47",
+        "no station 'lne' (did you mean 'line'?) (declare it: 'station lne (X, Y)')",
+    ),
+    (
+        "tasks: a task that starts where it ends",
+        spec(arena=tasks("station dock (50, 50) task dock -> dock")),
+        "3:23",
+        "task dock -> dock starts where it ends",
+    ),
+    (
+        "tasks: two stations of one name",
+        spec(arena=tasks("station a (50, 50) station a (90, 90) task a -> a")),
+        "3:20",
+        "duplicate station 'a' (first given at ",
+    ),
+    (
+        "tasks: a station in no task",
+        spec(arena=tasks("station a (50, 50) station b (900, 700) station c (500, 400) task a -> b")),
+        "3:41",
+        "station 'c' is in no task (add e.g. 'task c -> B')",
+    ),
+    (
+        "tasks: stations and no task",
+        spec(arena=tasks("station a (50, 50)")),
+        "3:1",
+        "station 'a' is in no task (add e.g. 'task a -> B')",
+    ),
+    (
+        "tasks: a station in the arena's wall",
+        spec(arena=tasks("station a (10, 50) station b (900, 700) task a -> b")),
+        "3:11",
+        "station 'a' (10, 50) is closer to the arena wall than the robot radius 20",
+    ),
+    (
+        "tasks: a station on a map's walls",
+        spec(
+            arena='arena floor { map "hall.yaml" cm robot radius 20 station a (28, 50) station b (150, 110) '
+            "task a -> b }\n"
+        ),
+        "2:60",
+        "station 'a' (28, 50) is on the map's walls or closer to them than the robot radius 20",
+    ),
+    (
+        "tasks: a start beside tasks",
+        spec(arena=tasks("start (50, 50) station a (50, 50) station b (900, 700) task a -> b")),
+        "3:1",
+        "an arena with tasks takes its starts and goals from them: make this start a station and name it "
+        "in a task",
+    ),
+    (
+        "tasks: none to draw",
+        spec(arena=tasks("tasks 0 seed 1")),
+        "3:1",
+        "tasks: give 1 to 1000 tasks to draw, got 0",
+    ),
+    (
+        "tasks: drawn twice",
+        spec(arena=tasks("tasks 2 seed 1 tasks 3 seed 2")),
+        "3:16",
+        "duplicate 'tasks' in arena 'floor' (first given at ",
+    ),
+    (
+        "tasks: a min distance no task can keep",
+        spec(arena=tasks("tasks 2 seed 1 min distance 20 m")),
+        "3:1",
+        "tasks: no start found a goal joined to it and 2000 or more away (on the arena's grid of 10 cm "
+        "cells)",
+    ),
+    (
+        "tasks: a min distance that cannot be converted",
+        spec(arena=tasks("tasks 2 seed 1 min distance 2 m", unit="px")),
+        "3:1",
+        "tasks: a min distance in m cannot be converted to the arena's px",
+    ),
+    (
+        "tasks: a heading beyond a turn",
+        spec(arena=tasks("station a (50, 50) heading 400 station b (900, 700) task a -> b")),
+        "3:1",
+        "a heading is in degrees, -360..360, got 400",
+    ),
+    (
+        "required: an element the scenario does not list",
+        spec(
+            element=ELEMENT + "element bar { shape square size 20..40 }\n",
+            scenario="scenario s on floor { elements box exactly 2 bar }\n",
+        ),
+        "4:46",
+        "'bar' is not an element of this scenario (elements box)",
+    ),
+    (
+        "required: twice",
+        spec(scenario="scenario s on floor { elements box exactly 2 box at least 1 box }\n"),
+        "3:50",
+        "'box' is required twice (first at ",
+    ),
+    (
+        "required: none",
+        spec(scenario="scenario s on floor { elements box at least 0 box }\n"),
+        "3:36",
+        "a required count must be at least 1, got 0",
+    ),
+    (
+        "required: more than a floor holds",
+        spec(scenario="scenario s on floor { elements box exactly 9 box max elements 8 }\n"),
+        "3:36",
+        "9 elements are required and a floor holds at most 8 (max elements)",
+    ),
+    (
+        "required: with a custom grammar",
+        spec(
+            scenario="scenario s on floor { elements box exactly 2 box "
+            "grammar custom { <s> ::= box | box <s> } }\n"
+        ),
+        "3:36",
+        "a custom grammar says itself what a floor holds: required elements need a generated one",
     ),
 ]
 

@@ -105,6 +105,22 @@ def _now() -> str:
     return datetime.now(timezone.utc).isoformat(timespec="seconds")
 
 
+def task_metrics(document: dict[str, Any]) -> dict[str, float | None]:
+    """What the catalog records of a floor of several tasks beside its metrics (theirs together):
+    ``tasks``, how many; ``tasks_solvable``, how many have a path; ``difficulty_worst``, the hardest
+    one's difficulty (null when one has no path). None for a floor of one task: nothing."""
+    tasks = [task.get("metrics") or {} for task in document.get("tasks", ())]
+    if not tasks:
+        return {}
+    scores = [task.get("difficulty") for task in tasks]
+    worst = max(float(score) for score in scores if score is not None) if None not in scores else None
+    return {
+        "tasks": float(len(tasks)),
+        "tasks_solvable": float(sum(bool(task.get("solvable")) for task in tasks)),
+        "difficulty_worst": worst,
+    }
+
+
 def _number(value: Any) -> float | None:
     """A metric as SQLite stores it: booleans as 0/1, non-finite values as NULL."""
     if isinstance(value, bool):
@@ -306,9 +322,10 @@ class Catalog:
                 json.dumps(document["terms"], sort_keys=True),
             ),
         )
+        measured = {**document.get("metrics", {}), **task_metrics(document)}
         db.executemany(
             "INSERT INTO metrics VALUES (?, ?, ?)",
-            [(cursor.lastrowid, name, _number(value)) for name, value in document.get("metrics", {}).items()],
+            [(cursor.lastrowid, name, _number(value)) for name, value in measured.items()],
         )
 
     def run_stopped(self, experiment: int, run: int, generation: int | None) -> None:

@@ -21,9 +21,9 @@ from mazegen.runtime.documents._floor import Floor
 from mazegen.runtime.documents._scenario import DIGITS, population_from_documents
 from mazegen.runtime.engine import Population
 from mazegen.runtime.geometry import ElementTable
-from mazegen.runtime.navigation import navigation_of
+from mazegen.runtime.navigation import navigation_of, task_views
 from mazegen.runtime.simulation import ARRIVED, NO_PATH, OUTCOMES, Episodes
-from mazegen.spec import Robot, Spec, unsized_problem
+from mazegen.spec import Robot, Spec, Task, unsized_problem
 
 
 def _round(value: float) -> float:
@@ -51,6 +51,7 @@ class Drive:
         collision: The robot's centre at first contact, or None.
         trajectory: ``[x, y, heading]`` at every step, heading in degrees.
         contacts: Steps that touched an obstacle, for a robot whose contacts continue (0 otherwise).
+        task: The task's name, on a floor of several tasks (None on a floor of one).
     """
 
     file: str
@@ -65,6 +66,7 @@ class Drive:
     collision: tuple[float, float] | None
     trajectory: tuple[tuple[float, float, float], ...]
     contacts: int = 0
+    task: str | None = None
 
     @property
     def arrived(self) -> bool:
@@ -98,8 +100,10 @@ class Drive:
         return section
 
     def record(self) -> dict[str, Any]:
-        """A JSON-ready line: the file, the controller and :meth:`measures`."""
-        return {"file": self.file, "controller": self.controller, **self.measures()}
+        """A JSON-ready line: the file, its task (on a floor of several), the controller and
+        :meth:`measures`."""
+        task = {} if self.task is None else {"task": self.task}
+        return {"file": self.file, **task, "controller": self.controller, **self.measures()}
 
     def line(self, unit: str) -> str:
         """The drive in words: ``arrived, 31.1 s, 1555 cm driven, closest 14.8 cm, score 0.5``."""
@@ -112,15 +116,17 @@ class Drive:
         )
 
 
-def not_driven(file: str, controller: str) -> Drive:
-    """The :class:`Drive` of a floor without a path."""
-    return Drive(file, controller, OUTCOMES[NO_PATH], 0.0, 0.0, None, None, 0.0, False, None, ())
+def not_driven(file: str, controller: str, task: str | None = None) -> Drive:
+    """The :class:`Drive` of a floor (or one of its tasks) without a path."""
+    return Drive(file, controller, OUTCOMES[NO_PATH], 0.0, 0.0, None, None, 0.0, False, None, (), task=task)
 
 
-def episode_drive(file: str, episodes: Episodes, index: int, scores: np.ndarray) -> Drive:
+def episode_drive(
+    file: str, episodes: Episodes, index: int, scores: np.ndarray, task: str | None = None
+) -> Drive:
     """Episode ``index`` of ``episodes`` as a :class:`Drive`, rounded as documents are."""
     if episodes.outcome[index] == NO_PATH:  # the simulator's path search found none either
-        return not_driven(file, episodes.controller)
+        return not_driven(file, episodes.controller, task)
     collision = episodes.collision[index]
     poses: tuple[tuple[float, float, float], ...] = ()
     if episodes.trajectory is not None:
@@ -141,6 +147,7 @@ def episode_drive(file: str, episodes: Episodes, index: int, scores: np.ndarray)
         collision=None if np.isnan(collision).any() else (_round(collision[0]), _round(collision[1])),
         trajectory=poses,
         contacts=0 if episodes.contacts is None else int(episodes.contacts[index]),
+        task=task,
     )
 
 
@@ -152,25 +159,18 @@ class Floors:
         spec: The spec the documents were made under (its arena, elements and robot).
         files: Each document's file, in order.
         population: One individual per document, in the same order.
-        solvable: ``bool[N]`` whether the robot has a path from start to goal.
     """
 
     spec: Spec
     files: tuple[str, ...]
     population: Population
-    solvable: np.ndarray
 
     @classmethod
     def of(cls, spec: Spec, documents: Sequence[tuple[str, dict[str, Any]]]) -> Floors:
         """The floors of ``(file, document)`` pairs, each document already checked against ``spec``."""
         table = ElementTable.from_types(spec.scenario_elements)
         population = population_from_documents(spec, table, list(documents))
-        return cls.of_population(spec, [file for file, _ in documents], population)
-
-    @classmethod
-    def of_population(cls, spec: Spec, files: Sequence[str], population: Population) -> Floors:
-        """The floors of a population made from the documents ``files`` (one individual each)."""
-        return cls(spec, tuple(files), population, navigation_of(population).solvable.copy())
+        return cls(spec, tuple(file for file, _ in documents), population)
 
     @property
     def robot(self) -> Robot:
@@ -178,49 +178,83 @@ class Floors:
         return self.spec.robot_or_default
 
     @property
-    def without_path(self) -> list[str]:
-        """The files of the floors that are not driven: no path from start to goal."""
-        return [file for file, solvable in zip(self.files, self.solvable) if not solvable]
+    def tasks(self) -> list[tuple[Task | None, Population]]:
+        """Each task of the floors (None for a floor of one task) and the population that drives it."""
+        views = task_views(self.population)
+        return [(None, views[0])] if not self.spec.arena.tasks else list(zip(self.spec.arena.tasks, views))
+
+    @property
+    def without_path(self) -> list[tuple[str, Task | None]]:
+        """The floors (and tasks, on floors of several) that are not driven: no path from start to goal."""
+        return [
+            (file, task)
+            for task, view in self.tasks
+            for file, solvable in zip(self.files, navigation_of(view).solvable)
+            if not solvable
+        ]
 
     def drive(self, controllers: Sequence[str]) -> list[list[Drive]]:
         """Drive every floor with a path with each controller (with the spec's settings of it), one
-        batch call per controller; ``[floor][controller]`` in the order of files and controllers."""
+        batch call per controller; per floor, its drives task by task, controller by controller."""
         return drive_batches([self], controllers)[0]
 
 
 def drive_batches(batches: Sequence[Floors], controllers: Sequence[str]) -> list[list[list[Drive]]]:
     """Drive every floor with a path of every batch (each with its spec's robot and settings of the
-    controller) with each controller: the floors of all batches in one batch of the simulator per
-    controller. ``[batch][floor][controller]``, in the order of batches, files and controllers."""
+    controller) with each controller: the floors and tasks of all batches in one batch of the simulator
+    per controller. ``[batch][floor]``: each floor's drives, task by task (its one task, or each of
+    its arena's), controller by controller."""
     from mazegen.runtime.simulation import DriveRequest, drive_many
 
-    indices = [np.flatnonzero(batch.solvable) for batch in batches]
-    drives = [[[not_driven(file, name) for name in controllers] for file in batch.files] for batch in batches]
-    driven = [k for k, rows in enumerate(indices) if rows.size]
-    for column, name in enumerate(controllers):
-        requests = [
-            DriveRequest(
-                batches[k].population, batches[k].robot, batches[k].robot.controller(name), indices[k]
-            )
-            for k in driven
+    units = [(k, task, view) for k, batch in enumerate(batches) for task, view in batch.tasks]
+    indices = [np.flatnonzero(navigation_of(view).solvable) for _, _, view in units]
+    drives = {
+        (u, column): [
+            not_driven(file, name, None if task is None else task.name) for file in batches[k].files
         ]
-        for k, episodes in zip(driven, drive_many(requests, record=True)):
+        for u, (k, task, _) in enumerate(units)
+        for column, name in enumerate(controllers)
+    }
+    driven = [u for u, rows in enumerate(indices) if rows.size]
+    for column, name in enumerate(controllers):
+        requests = []
+        for u in driven:
+            k, task, view = units[u]
+            robot = batches[k].robot
+            starts = None if task is None else task.start_poses(indices[u].size)
+            requests.append(DriveRequest(view, robot, robot.controller(name), indices[u], starts))
+        for u, episodes in zip(driven, drive_many(requests, record=True)):
+            k, task, _ = units[u]
             scores = episodes.score()
-            for row, index in enumerate(indices[k].tolist()):
-                drives[k][index][column] = episode_drive(batches[k].files[index], episodes, row, scores)
-    return drives
+            for row, index in enumerate(indices[u].tolist()):
+                drives[u, column][index] = episode_drive(
+                    batches[k].files[index], episodes, row, scores, None if task is None else task.name
+                )
+    return [
+        [
+            [
+                drives[u, column][index]
+                for u, unit in enumerate(units)
+                if unit[0] == k
+                for column in range(len(controllers))
+            ]
+            for index in range(len(batch.files))
+        ]
+        for k, batch in enumerate(batches)
+    ]
 
 
 def drive_floors(
     floors: Sequence[Floor],
     controllers: Sequence[str],
     *,
-    no_path: Callable[[str, Floors], None] | None = None,
+    no_path: Callable[[str, Floors, Task | None], None] | None = None,
 ) -> tuple[list[Floor], list[list[Drive]]]:
     """Drive each floor with each controller: the floors of every spec (a floor's own start and goal
     make a spec of their own) in one batch per controller. Returns the floors grouped by spec, in
-    the order each spec first appears, and their drives, ``[floor][controller]`` in that order;
-    ``no_path`` is told of each floor not driven for want of a path, before any is driven."""
+    the order each spec first appears, and their drives, task by task and controller by controller
+    (:func:`drive_batches`); ``no_path`` is told of each floor (and task) not driven for want of a
+    path, before any is driven."""
     groups: dict[Spec, list[Floor]] = {}
     for floor in floors:
         groups.setdefault(floor.needs_spec("driving"), []).append(floor)
@@ -229,8 +263,8 @@ def drive_floors(
     ]
     if no_path is not None:
         for batch in batches:
-            for file in batch.without_path:
-                no_path(file, batch)
+            for file, task in batch.without_path:
+                no_path(file, batch, task)
     drives = [row for batch_drives in drive_batches(batches, controllers) for row in batch_drives]
     return [floor for group in groups.values() for floor in group], drives
 
@@ -282,8 +316,8 @@ def summaries(drives: Sequence[Sequence[Drive]], controllers: Sequence[str]) -> 
     """Each controller's :class:`Summary` over the floors driven (``drives`` as :meth:`Floors.drive`
     gives them); floors without a path count in neither the success rate nor the score."""
     found = []
-    for column, name in enumerate(controllers):
-        driven = [row[column] for row in drives if row[column].driven]
+    for name in controllers:
+        driven = [drive for row in drives for drive in row if drive.controller == name and drive.driven]
         scores = [drive.score for drive in driven]
         mean = _round(sum(scores) / len(scores)) if scores else None
         found.append(Summary(name, len(driven), sum(drive.arrived for drive in driven), mean))
@@ -292,7 +326,21 @@ def summaries(drives: Sequence[Sequence[Drive]], controllers: Sequence[str]) -> 
 
 def with_drives(document: dict[str, Any], drives: Sequence[Drive]) -> dict[str, Any]:
     """``document`` with its ``drive`` section holding ``drives`` (earlier drives by other controllers
-    are kept; a controller driven again replaces its entry)."""
-    section = dict(document.get("drive") or {})
-    section.update({drive.controller: drive.section() for drive in drives})
-    return {**document, "drive": section}
+    are kept; a controller driven again replaces its entry); a task's drive goes into its entry of
+    the document's ``tasks``."""
+    mine = [drive for drive in drives if drive.task is None]
+    if mine or all(drive.task is None for drive in drives):
+        document = {**document, "drive": _section(document.get("drive"), mine)}
+    if "tasks" not in document:
+        return document
+    tasks = [
+        {**entry, "drive": _section(entry.get("drive"), [d for d in drives if d.task == entry["name"]])}
+        if any(d.task == entry["name"] for d in drives)
+        else entry
+        for entry in document["tasks"]
+    ]
+    return {**document, "tasks": tasks}
+
+
+def _section(section: dict[str, Any] | None, drives: Sequence[Drive]) -> dict[str, Any]:
+    return {**(section or {}), **{drive.controller: drive.section() for drive in drives}}

@@ -202,7 +202,7 @@ class FitProblem:
             spec = floor.needs_spec("fitting")
             driving_robot(spec, str(runs.scenario))
             floors = Floors.of(spec, [(str(runs.scenario), floor.document)])
-            if not floors.solvable[0]:
+            if floors.without_path:
                 raise MazeError(
                     "MazeGen finds no path on this floor: it cannot be driven", filename=str(runs.scenario)
                 )

@@ -10,7 +10,6 @@ border would mark the neighbour too, and a document's four decimals could move i
 from __future__ import annotations
 
 import json
-from collections import deque
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -18,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from mazegen.errors import MazeError
-from mazegen.maps import Cells, OccupancyMap, near_cells, wall_rectangles
+from mazegen.maps import Cells, OccupancyMap, draw_tasks, standing_cells, wall_rectangles
 from mazegen.runtime.documents._scenario import FORMAT, VERSION, completed_document
 from mazegen.runtime.documents._task import task_spec
 from mazegen.spec import Point, Spec, task_point_problem
@@ -78,26 +77,21 @@ class ImportedMap:
         return round(cols * self.map.resolution, 9), round(rows * self.map.resolution, 9)
 
     @cached_property
+    def _cells(self) -> tuple[np.ndarray, np.ndarray]:
+        return standing_cells(self.map.occupied, self.map.resolution, *self.size, self.robot_radius)
+
+    @property
     def robot_free(self) -> np.ndarray:
         """``bool[rows, cols]``: cells where the robot's centre may stand, as the engine decides it: no
         obstacle cell's centre within the radius of its centre, and no closer to the arena's edge."""
-        rows, cols = self.map.occupied.shape
-        blocked = near_cells(self.map.occupied, self.robot_radius / self.map.resolution)
-        centres_x = (np.arange(cols) + 0.5) * self.map.resolution
-        centres_y = (np.arange(rows) + 0.5) * self.map.resolution
-        width, height = self.size
-        r = self.robot_radius
-        blocked |= ((centres_y < r) | (centres_y > height - r))[:, None]
-        blocked |= ((centres_x < r) | (centres_x > width - r))[None, :]
-        return ~blocked
+        return self._cells[0]
 
-    @cached_property
+    @property
     def standing(self) -> np.ndarray:
         """``bool[rows, cols]``: cells of :attr:`robot_free` whose centre keeps the robot's disc off every
         obstacle cell and the edge, touching none: where a drawn task's robot starts and stops (the
         simulator decides contact on the walls' exact shapes, not on their cells' centres)."""
-        touching = near_cells(self.map.occupied, self.robot_radius / self.map.resolution, squares=True)
-        return self.robot_free & ~touching
+        return self._cells[1]
 
     def arena_point(self, point: Point) -> Point:
         """A point of the map's frame in the arena's."""
@@ -158,35 +152,18 @@ class ImportedMap:
 
     def random_tasks(self, count: int, seed: int) -> list[tuple[Point, Point]]:
         """``count`` starts and goals at the centres of cells the robot can stand on touching nothing
-        (:attr:`standing`), each goal reachable from its start, drawn with
-        ``numpy.random.default_rng(seed)``.
+        (:attr:`standing`), each goal reachable from its start (:func:`draw_tasks`).
 
         Raises:
             MazeError: When no two free cells are connected for the robot.
         """
-        labels = _components(self.robot_free).ravel()
-        free = np.flatnonzero((labels >= 0) & self.standing.ravel())
-        sizes = np.bincount(labels[free]) if free.size else np.zeros(0, dtype=np.int64)
-        candidates = free[sizes[labels[free]] >= 2]
-        if candidates.size == 0:
+        try:
+            return draw_tasks(self.robot_free, self.standing, self.map.resolution, count, seed)
+        except ValueError:
             raise MazeError(
                 f"no two free cells are connected for a robot of radius {self.robot_radius:g} m: "
                 "no task can be drawn (give a smaller --robot-radius)"
-            )
-        rng = np.random.default_rng(seed)
-        cols = self.map.occupied.shape[1]
-        tasks = []
-        for _ in range(count):
-            start = int(rng.choice(candidates))
-            same = free[labels[free] == labels[start]]
-            goal = int(rng.choice(same[same != start]))
-            tasks.append((self._centre(start, cols), self._centre(goal, cols)))
-        return tasks
-
-    def _centre(self, index: int, cols: int) -> Point:
-        row, col = divmod(index, cols)
-        cell = self.map.resolution
-        return round((col + 0.5) * cell, 9), round((row + 0.5) * cell, 9)
+            ) from None
 
     def maze_text(self, task: tuple[Point, Point], source: str) -> str:
         """The spec of the floor, in the language: its arena, the wall type and a scenario of its walls."""
@@ -269,30 +246,3 @@ def _number(value: float) -> str:
 
 def _shift(value: float) -> str:
     return f"{'-' if value < 0 else '+'} {abs(value)!r}"
-
-
-def _components(free: np.ndarray) -> np.ndarray:
-    """``int[rows, cols]``: the 4-connected component of each free cell, -1 for a blocked one."""
-    rows, cols = free.shape
-    labels = np.full(free.shape, -1, dtype=np.int64)
-    flat_free, flat = free.ravel(), labels.ravel()
-    label = 0
-    for seed in np.flatnonzero(flat_free).tolist():
-        if flat[seed] >= 0:
-            continue
-        flat[seed] = label
-        queue = deque([seed])
-        while queue:
-            index = queue.popleft()
-            row, col = divmod(index, cols)
-            for neighbour, inside in (
-                (index - cols, row > 0),
-                (index + cols, row + 1 < rows),
-                (index - 1, col > 0),
-                (index + 1, col + 1 < cols),
-            ):
-                if inside and flat_free[neighbour] and flat[neighbour] < 0:
-                    flat[neighbour] = label
-                    queue.append(neighbour)
-        label += 1
-    return labels

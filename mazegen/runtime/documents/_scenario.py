@@ -22,8 +22,8 @@ from mazegen.maps import base_digest
 from mazegen.runtime.documents._scenario_rules import check_document, read_json
 from mazegen.runtime.engine import PLACEMENT_GENES, SX, SY, THETA, Population, X, Y
 from mazegen.runtime.geometry import ElementTable, world_vertices
-from mazegen.runtime.navigation import corner_paths_of, survey_of
-from mazegen.spec import BaseMap, Spec, Zone
+from mazegen.runtime.navigation import corner_paths_of, survey_of, task_views
+from mazegen.spec import BaseMap, Spec, Station, Task, Zone
 
 FORMAT = "mazegen-scenario"
 VERSION = 1
@@ -47,6 +47,28 @@ def arena_document(spec: Spec) -> dict[str, Any]:
         "robot_radius": a.robot_radius,
         **({} if a.base is None else {"map": map_document(a.base)}),
         **({} if not a.zones else {"zones": [zone_document(zone) for zone in a.zones]}),
+        **({} if not a.stations else {"stations": [station_document(station) for station in a.stations]}),
+        **({} if not a.tasks else {"tasks": [task_document(task) for task in a.tasks]}),
+    }
+
+
+def _heading(degrees: float | None) -> float | None:
+    return None if degrees is None else _round(degrees) % 360.0
+
+
+def station_document(station: Station) -> dict[str, Any]:
+    """One of a document's ``arena.stations``: its name, point and heading (degrees, or null)."""
+    return {"name": station.name, "point": list(station.point), "heading": _heading(station.heading)}
+
+
+def task_document(task: Task) -> dict[str, Any]:
+    """One of a document's ``arena.tasks``: its name, start and goal, and their headings (or null)."""
+    return {
+        "name": task.name,
+        "start": list(task.start),
+        "goal": list(task.goal),
+        "start_heading": _heading(task.start_heading),
+        "goal_heading": _heading(task.goal_heading),
     }
 
 
@@ -106,7 +128,8 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
 
 
 def robot_path(population: Population, index: int) -> list[list[float]] | None:
-    """The corners of individual ``index``'s path from start to goal, or None when it has none.
+    """The corners of individual ``index``'s path from start to goal (its first task's, for a floor of
+    several), or None when it has none.
 
     The path is the engine's own (:func:`~mazegen.runtime.navigation._paths.paths_of` on the
     arena's grid), rounded to :data:`DIGITS` decimals, without repeated corners.
@@ -122,6 +145,19 @@ def _metrics(population: Population, index: int) -> dict[str, Any]:
     return {
         key: value if not isinstance(value, float) else _round(value)
         for key, value in survey_of(population).summary(index).items()
+    }
+
+
+def task_sections(population: Population, index: int) -> dict[str, Any]:
+    """``{"tasks": [...]}``: each task's name, metrics and path, for a floor of several tasks (``{}`` for
+    a floor of one, whose ``metrics`` and ``path`` are its task's)."""
+    if not population.arena.tasks:
+        return {}
+    return {
+        "tasks": [
+            {"name": task.name, "metrics": _metrics(view, index), "path": robot_path(view, index)}
+            for task, view in zip(population.arena.tasks, task_views(population))
+        ]
     }
 
 
@@ -154,6 +190,7 @@ def scenario_document(
         "terms": {key: float(value) + 0.0 for key, value in terms.items()},  # + 0.0 turns -0.0 into 0.0
         "metrics": _metrics(population, index),
         "path": robot_path(population, index),
+        **task_sections(population, index),
         "valid": bool(math.isfinite(fitness)),
         "origin": origin,
     }
@@ -311,9 +348,10 @@ def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> d
         "terms": {},
         "valid": True,
         "origin": {},
-        **document,
+        **{key: value for key, value in document.items() if key != "tasks"},
         "arena": arena_document(spec),
         "elements": element_documents(spec, population, 0),
         "metrics": _metrics(population, 0),
         "path": robot_path(population, 0),
+        **task_sections(population, 0),
     }

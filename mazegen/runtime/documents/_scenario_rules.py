@@ -23,7 +23,7 @@ from typing import Any, NoReturn
 from mazegen.errors import MazeError
 from mazegen.fileio import read_bytes
 from mazegen.maps import UNKNOWN
-from mazegen.spec import ZONE_RULES
+from mazegen.spec import MAX_TASKS, ZONE_RULES
 
 MAX_FILE_BYTES = 64 * 2**20
 """Largest scenario file read (64 MiB): a floor of :data:`MAX_ELEMENTS` elements is far smaller."""
@@ -124,6 +124,39 @@ POINT = Items(COORDINATE, least=2, most=2)
 MEASURE = Number(null=True)
 COUNT = Number(low=0, integer=True)
 
+HEADING = Number(low=0, high=360, high_open=True, null=True)
+METRICS = Fields(
+    {
+        "solvable": Flag(),
+        "coverage": Number(low=0, high=1),
+        "path_length": MEASURE,
+        "difficulty": Number(low=0, high=100, null=True),
+        **dict.fromkeys(
+            ("clearance", "visibility", "dispersion", "dimension", "tortuosity", "path_ratio"),
+            MEASURE,
+        ),
+        "narrowest": MEASURE,
+        "difficulty_version": Number(low=1, high=2, integer=True),
+    }
+)
+PATH = Items(POINT, least=2, most=MAX_PATH, null=True)
+DRIVE = Mapping(
+    Fields(
+        {
+            "outcome": Text(choices=DRIVE_OUTCOMES),
+            "time": Number(low=0, high=MAX_SECONDS),
+            "distance": Number(low=0, high=MAX_DOCUMENT_LENGTH),
+            "clearance": Number(low=0, high=MAX_DOCUMENT_LENGTH, null=True),
+            "optimal_time": Number(low=0, high=MAX_SECONDS, null=True),
+            "score": Number(low=0, high=0.5),
+            "stuck": Flag(),
+            "collision": Items(COORDINATE, least=2, most=2, null=True),
+            "contacts": Number(low=1, integer=True),
+            "trajectory": Items(Items(COORDINATE, least=3, most=3), most=MAX_POSES),
+        }
+    )
+)
+
 DOCUMENT = Fields(
     {
         "format": Text(choices=("mazegen-scenario",)),
@@ -159,6 +192,20 @@ DOCUMENT = Fields(
                         }
                     )
                 ),
+                "stations": Items(Fields({"name": Text(), "point": POINT, "heading": HEADING})),
+                "tasks": Items(
+                    Fields(
+                        {
+                            "name": Text(),
+                            "start": POINT,
+                            "goal": POINT,
+                            "start_heading": HEADING,
+                            "goal_heading": HEADING,
+                        }
+                    ),
+                    least=1,
+                    most=MAX_TASKS,
+                ),
             }
         ),
         "elements": Items(
@@ -182,37 +229,14 @@ DOCUMENT = Fields(
         "phenotype": Text(longest=None, null=True),
         "fitness": Number(null=True),
         "terms": Mapping(Number()),
-        "metrics": Fields(
-            {
-                "solvable": Flag(),
-                "coverage": Number(low=0, high=1),
-                "path_length": MEASURE,
-                "difficulty": Number(low=0, high=100, null=True),
-                **dict.fromkeys(
-                    ("clearance", "visibility", "dispersion", "dimension", "tortuosity", "path_ratio"),
-                    MEASURE,
-                ),
-                "narrowest": MEASURE,
-                "difficulty_version": Number(low=1, high=2, integer=True),
-            }
-        ),
-        "path": Items(POINT, least=2, most=MAX_PATH, null=True),
+        "metrics": METRICS,
+        "path": PATH,
         "valid": Flag(),
-        "drive": Mapping(
-            Fields(
-                {
-                    "outcome": Text(choices=DRIVE_OUTCOMES),
-                    "time": Number(low=0, high=MAX_SECONDS),
-                    "distance": Number(low=0, high=MAX_DOCUMENT_LENGTH),
-                    "clearance": Number(low=0, high=MAX_DOCUMENT_LENGTH, null=True),
-                    "optimal_time": Number(low=0, high=MAX_SECONDS, null=True),
-                    "score": Number(low=0, high=0.5),
-                    "stuck": Flag(),
-                    "collision": Items(COORDINATE, least=2, most=2, null=True),
-                    "contacts": Number(low=1, integer=True),
-                    "trajectory": Items(Items(COORDINATE, least=3, most=3), most=MAX_POSES),
-                }
-            )
+        "drive": DRIVE,
+        "tasks": Items(
+            Fields({"name": Text(), "metrics": METRICS, "path": PATH, "drive": DRIVE}),
+            least=1,
+            most=MAX_TASKS,
         ),
         "origin": Fields(
             {

@@ -20,7 +20,7 @@ from mazegen.runtime.documents._driving import Drive, Floors
 from mazegen.runtime.documents._scenario import population_from_document, read_document
 from mazegen.runtime.documents._task import task_note, task_spec
 from mazegen.runtime.engine import Problem
-from mazegen.runtime.navigation import survey_of
+from mazegen.runtime.navigation import survey_of, task_views
 from mazegen.spec import Point, Spec
 
 
@@ -36,7 +36,10 @@ class Scored:
         measured: Solvability, occupied fraction and the difficulty metrics (None where unsolvable).
         start: The start it was scored with.
         goal: The goal it was scored with.
-        drives: How each controller asked for drove it, in their order.
+        drives: How each controller asked for drove it, in their order (task by task, on a floor of
+            several tasks).
+        tasks: Each task's name and measures, on a floor of several tasks (``measured`` is theirs
+            together: solvable where every task is, each metric their mean).
     """
 
     file: str
@@ -47,6 +50,7 @@ class Scored:
     start: Point
     goal: Point
     drives: tuple[Drive, ...] = ()
+    tasks: tuple[tuple[str, dict[str, bool | float | None]], ...] = ()
 
     @property
     def valid(self) -> bool:
@@ -65,12 +69,26 @@ class Scored:
             "goal": list(self.goal),
             "terms": {key: _finite(value) for key, value in self.terms.items()},
             "metrics": self.measured,
+            **_drive_section([drive for drive in self.drives if drive.task is None]),
             **(
-                {"drive": {drive.controller: drive.measures() for drive in self.drives}}
-                if self.drives
+                {
+                    "tasks": [
+                        {
+                            "name": name,
+                            "metrics": measured,
+                            **_drive_section([drive for drive in self.drives if drive.task == name]),
+                        }
+                        for name, measured in self.tasks
+                    ]
+                }
+                if self.tasks
                 else {}
             ),
         }
+
+
+def _drive_section(drives: list[Drive]) -> dict[str, Any]:
+    return {"drive": {drive.controller: drive.measures() for drive in drives}} if drives else {}
 
 
 def _finite(value: float) -> float | None:
@@ -108,9 +126,7 @@ class Scorer:
             note(own)
         population = population_from_document(task, self.problem.table, document, filename)
         fitness, terms = self.problem.score(population)
-        drives = (
-            Floors.of_population(task, [filename], population).drive(controllers)[0] if controllers else []
-        )
+        drives = Floors(task, (filename,), population).drive(controllers)[0] if controllers else []
         return Scored(
             file=filename,
             fitness=float(fitness[0]),
@@ -120,4 +136,8 @@ class Scorer:
             start=task.arena.start,
             goal=task.arena.goal,
             drives=tuple(drives),
+            tasks=tuple(
+                (one.name, survey_of(view).summary(0))
+                for one, view in zip(task.arena.tasks, task_views(population))
+            ),
         )

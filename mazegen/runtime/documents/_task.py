@@ -15,15 +15,16 @@ from typing import Any
 from mazegen.errors import MazeError
 from mazegen.maps import point_on_walls
 from mazegen.runtime.documents._scenario import arena_document
-from mazegen.spec import Arena, Point, Spec, task_point_problem
+from mazegen.spec import Arena, Point, Spec, Station, Task, task_point_problem
 from mazegen.text import printable, quoted
 
-TASK = ("start", "goal")
-"""The fields of a document's ``arena`` that are its own task, not the spec's floor."""
+TASK = ("start", "goal", "stations", "tasks")
+"""The fields of a document's ``arena`` that are its own tasks, not the spec's floor."""
 
 
 def document_arena(spec: Spec, document: dict[str, Any], filename: str) -> Arena:
-    """The spec's arena with the start and goal of ``document``'s ``arena`` where it gives them.
+    """The spec's arena with the tasks of ``document``'s ``arena`` where it gives them: its ``tasks``
+    (checked by the document rules), or its start and goal when they are not the spec's (one task).
 
     Raises:
         MazeError: for a start or goal that is no ``[x, y]`` point, or where the spec's robot
@@ -32,25 +33,52 @@ def document_arena(spec: Spec, document: dict[str, Any], filename: str) -> Arena
     arena, given = spec.arena, document.get("arena")
     if not isinstance(given, dict):
         return arena
+    if "tasks" in given:
+        tasks = tuple(
+            _task(arena, item, f"arena.tasks[{k}]", filename) for k, item in enumerate(given["tasks"])
+        )
+        stations = tuple(
+            Station(item["name"], _pair(item["point"]), item.get("heading"))
+            for item in given.get("stations", ())
+        )
+        if (tasks, stations) == (arena.tasks, arena.stations):
+            return arena
+        return dataclasses.replace(
+            arena, start=tasks[0].start, goal=tasks[0].goal, stations=stations, tasks=tasks
+        )
+    task = _task(arena, {**given, "name": "start -> goal"}, "arena", filename)
+    if (task.start, task.goal) == (arena.start, arena.goal):
+        return arena
+    return dataclasses.replace(arena, start=task.start, goal=task.goal, stations=(), tasks=())
+
+
+def _pair(value: Any) -> Point:
+    return (float(value[0]), float(value[1]))
+
+
+def _task(arena: Arena, given: dict[str, Any], where: str, filename: str) -> Task:
+    """The task ``given`` (a document's ``arena`` or one of its ``tasks``, at ``where``), its start and
+    goal the spec's where it gives none."""
     points = {}
-    for label in TASK:
+    for label in ("start", "goal"):
         value = given.get(label, getattr(arena, label))
         if not (
             isinstance(value, (list, tuple))
             and len(value) == 2
             and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
         ):
-            raise MazeError(f"arena: '{label}' must be an [x, y] point", filename=filename)
-        point = (float(value[0]), float(value[1]))
+            raise MazeError(f"{where}: '{label}' must be an [x, y] point", filename=filename)
+        point = _pair(value)
         problem = task_point_problem(label, point, arena.width, arena.height, arena.robot_radius)
         if problem is None and arena.base is not None:
             problem = point_on_walls(arena.base, label, point, arena.robot_radius)
         if problem is not None:
-            raise MazeError(problem, filename=filename)
+            raise MazeError(problem if where == "arena" else f"{where}: {problem}", filename=filename)
         points[label] = point
     if points["start"] == points["goal"]:
-        raise MazeError("arena: start and goal are the same point", filename=filename)
-    return dataclasses.replace(arena, start=points["start"], goal=points["goal"])
+        raise MazeError(f"{where}: start and goal are the same point", filename=filename)
+    headings = (given.get("start_heading"), given.get("goal_heading"))
+    return Task(str(given["name"]), points["start"], points["goal"], *headings)
 
 
 def task_spec(spec: Spec, document: dict[str, Any], filename: str) -> Spec:
@@ -91,9 +119,14 @@ def _point(text: str, point: Point) -> str:
 
 def task_note(filename: str, own: Arena, spec: Arena, done: str) -> str | None:
     """The note that the floor of ``filename`` is ``done`` (``scored``, ``driven``) on the start and
-    goal of its ``own`` arena, or None when they are the ``spec``'s."""
-    if (own.start, own.goal) == (spec.start, spec.goal):
+    goal of its ``own`` arena (or its own tasks), or None when they are the ``spec``'s."""
+    if own.every_task == spec.every_task:
         return None
+    if own.tasks or spec.tasks:
+        return (
+            f"{printable(filename)}: {done} on its own {len(own.every_task)} task(s), not the spec's "
+            f"{len(spec.every_task)}"
+        )
     return (
         f"{printable(filename)}: {done} with its own {_point('start', own.start)} and "
         f"{_point('goal', own.goal)}, not the spec's {_point('start', spec.start)} "

@@ -54,6 +54,35 @@ def map_note(floor: Floor, metres: float) -> str | None:
     return f"on map {source}: (x, y) here is (x {x:+g}, y {y:+g}) in its frame"
 
 
+def floor_tasks(floor: Floor) -> list[dict]:
+    """The tasks of a floor of several (its document's ``arena.tasks``), none for a floor of one."""
+    return list(floor.arena.get("tasks", ()))
+
+
+def task_pose(
+    task: dict, end: str, metres: float, corner: tuple[float, float]
+) -> tuple[float, float, float | None]:
+    """``(x, y, yaw)`` of a task's ``start`` or ``goal`` in an export's frame (metres, the arena's corner
+    at ``corner``), yaw in radians or None where the task gives no heading."""
+    x, y = (float(v) * metres + at for v, at in zip(task[end], corner))
+    heading = task.get(f"{end}_heading")
+    return x, y, None if heading is None else math.radians(heading)
+
+
+def task_comments(floor: Floor, metres: float, corner: tuple[float, float]) -> list[str]:
+    """One line per task of a floor of several, ``task "dock -> line1": start [x, y, yaw], goal [...]``
+    (metres, radians, ``~`` for no heading), for a world's comments."""
+
+    def shown(pose: tuple[float, float, float | None]) -> str:
+        return "[" + ", ".join("~" if v is None else yaml_number(v) for v in pose) + "]"
+
+    lines = []
+    for task in floor_tasks(floor):
+        start, goal = (shown(task_pose(task, end, metres, corner)) for end in ("start", "goal"))
+        lines.append(f"task {json.dumps(str(task['name']))}: start {start}, goal {goal}")
+    return lines
+
+
 def rectangle_of(corners: np.ndarray) -> tuple[tuple[float, float], float, float, float] | None:
     """Centre, length, width and yaw of a four-cornered part if it is a rectangle, else None."""
     if len(corners) != 4:

@@ -22,7 +22,7 @@ import numpy as np
 
 from mazegen.maps import wall_boxes
 from mazegen.runtime.documents import Floor, safe_name
-from mazegen.runtime.exporters._floor import ExportOptions, map_note, rectangle_of
+from mazegen.runtime.exporters._floor import ExportOptions, map_note, rectangle_of, task_comments
 from mazegen.runtime.reports import rgb
 from mazegen.spec import BaseMap
 
@@ -192,6 +192,8 @@ def gazebo_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
     about = [f"MazeGen scenario from {safe_name(floor.source.name)}", f"1 arena unit = {metres:g} m"]
     note = map_note(floor, metres)
     root.append(ET.Comment(f" {_comment('; '.join([*about, note] if note else about))} "))
+    for line in task_comments(floor, metres, (0.0, 0.0)):  # the markers are the first task's
+        root.append(ET.Comment(f" {_comment(line)} "))
     world = _child(root, "world", name=_sdf_name(floor.document.get("scenario", "mazegen")))
     tallest = max((float(e.get("height", 100.0)) for e in elements), default=100.0) * metres
     _surroundings(world, float(arena["width"]) * metres, float(arena["height"]) * metres, tallest)

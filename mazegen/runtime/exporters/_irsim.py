@@ -24,7 +24,7 @@ import numpy as np
 from mazegen.errors import MazeError, MazeNote
 from mazegen.maps import wall_boxes
 from mazegen.runtime.documents import Floor, safe_name
-from mazegen.runtime.exporters._floor import ExportOptions, map_note, rectangle_of, yaml_number
+from mazegen.runtime.exporters._floor import ExportOptions, map_note, rectangle_of, task_comments, yaml_number
 from mazegen.runtime.exporters._gazebo import WALL_THICKNESS
 from mazegen.spec import Arena, BaseMap, Robot, robot_for
 
@@ -186,6 +186,7 @@ def irsim_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
         f"{json.dumps(safe_name(floor.source.name))}:",
         f"# metres (1 arena unit = {metres:g} m), radians; the arena's lower-left corner at (0, 0)",
         *([f"# {note}"] if note else []),
+        *(f"# {line}" for line in task_comments(floor, metres, (0.0, 0.0))),
         "world:",
         f"  width: {yaml_number(width + 2 * t)}",
         f"  height: {yaml_number(height + 2 * t)}",

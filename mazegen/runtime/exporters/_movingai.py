@@ -1,12 +1,12 @@
-"""MovingAI grid benchmarks: an octile ``.map`` and a ``.scen`` with its start-goal problem.
+"""MovingAI grid benchmarks: an octile ``.map`` and a ``.scen`` with its start-goal problems, one per
+task.
 
 A map cell stands for the robot's centre, so the map is the engine's configuration
 space (cells an obstacle grown by the robot radius or the arena's edge blocks are
 ``@``, the others ``.``) on a grid of the chosen cell size. The ``.scen`` holds the
 start and goal cells and the optimal octile length between them (straight moves
 cost 1, diagonal ones the square root of 2, no diagonal past a blocked cell),
-found by an A* search on the written map. A floor with no path there gets a
-``.scen`` with no problem line.
+found by an A* search on the written map. A task with no path there gets no problem line.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from numba import njit
 
 from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.documents import Floor
-from mazegen.runtime.exporters._floor import ExportOptions
+from mazegen.runtime.exporters._floor import ExportOptions, floor_tasks
 
 SQRT2 = math.sqrt(2.0)
 
@@ -89,14 +89,18 @@ def movingai_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
         MazeError: When the scenario's spec is unknown, or for a bad cell size.
     """
     free, grid = floor.configuration_space(options.cell)
-    # MovingAI counts rows from the top.
-    (sr, sc), (gr, gc) = ((grid.rows - 1 - r, c) for r, c in (grid.start_cell, grid.goal_cell))
-    length = octile_length(free[::-1].copy(), (sr, sc), (gr, gc))
     name = f"{floor.name}.map"
     scen = ["version 1"]
-    if math.isfinite(length):
-        bucket = int(length // 4)
-        scen.append(f"{bucket}\t{name}\t{grid.cols}\t{grid.rows}\t{sc}\t{sr}\t{gc}\t{gr}\t{length:.8f}")
+    flipped = free[::-1].copy()
+    ends = [(task["start"], task["goal"]) for task in floor_tasks(floor)] or [(grid.start, grid.goal)]
+    for start, goal in ends:
+        task = grid.for_task((float(start[0]), float(start[1])), (float(goal[0]), float(goal[1])))
+        # MovingAI counts rows from the top.
+        (sr, sc), (gr, gc) = ((grid.rows - 1 - r, c) for r, c in (task.start_cell, task.goal_cell))
+        length = octile_length(flipped, (sr, sc), (gr, gc))
+        if math.isfinite(length):
+            bucket = int(length // 4)
+            scen.append(f"{bucket}\t{name}\t{grid.cols}\t{grid.rows}\t{sc}\t{sr}\t{gc}\t{gr}\t{length:.8f}")
     return {
         name: map_bytes(free),
         f"{floor.name}.scen": ("\n".join(scen) + "\n").encode("utf-8"),

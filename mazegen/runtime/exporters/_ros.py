@@ -6,7 +6,8 @@ occupied cell on each side for the arena's edge, which the engine never lets the
 are 0 (occupied) or 254 (free); 205 (unknown) is never written, and the YAML's
 thresholds read it back as unknown, not free. Lengths are metres whatever the
 arena's unit. The map frame is the arena's, its lower-left corner at (0, 0); or, for a floor built
-on a map, that map's own frame, so the export lies where the user's map lies.
+on a map, that map's own frame, so the export lies where the user's map lies. A floor of several
+tasks also gets ``NAME.tasks.yaml``: each task's start and goal poses in that frame.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ import json
 import numpy as np
 
 from mazegen.runtime.documents import Floor, safe_name
-from mazegen.runtime.exporters._floor import ExportOptions, arena_corner, yaml_number
+from mazegen.runtime.exporters._floor import ExportOptions, arena_corner, floor_tasks, task_pose, yaml_number
 
 OCCUPIED = 0
 FREE = 254
@@ -74,4 +75,35 @@ def ros_files(floor: Floor, options: ExportOptions) -> dict[str, bytes]:
         f"occupied_thresh: {OCCUPIED_THRESH}",
         f"free_thresh: {FREE_THRESH}",
     ]
-    return {image: map_image(occupied), f"{floor.name}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}
+    files = {image: map_image(occupied), f"{floor.name}.yaml": ("\n".join(lines) + "\n").encode("utf-8")}
+    if floor_tasks(floor):
+        files[f"{floor.name}.tasks.yaml"] = tasks_yaml(floor, metres, corner, source)
+    return files
+
+
+def tasks_yaml(floor: Floor, metres: float, corner: tuple[float, float], source: str) -> bytes:
+    """The tasks of a floor of several, beside its map: each one's name, start and goal poses in the
+    map frame (metres, yaw in radians, null for no heading), the optimal length of MazeGen's path
+    and the narrowest gap on it (metres, null where the task has no path)."""
+    measured = {task.get("name"): task.get("metrics") or {} for task in floor.document.get("tasks", ())}
+    lines = [
+        f"# Tasks of MazeGen scenario {json.dumps(floor.document.get('scenario'))}, {source}: poses in",
+        "# the map frame (metres, yaw in radians; null: any heading); MazeGen's optimal path length and",
+        "# the narrowest gap on it (metres; null: no path)",
+        "tasks:",
+    ]
+    for task in floor_tasks(floor):
+        metrics = measured.get(task["name"], {})
+        lines.append(f"  - name: {json.dumps(str(task['name']))}")
+        for end in ("start", "goal"):
+            x, y, yaw = task_pose(task, end, metres, corner)
+            lines.append(
+                f"    {end}: {{x: {yaml_number(x)}, y: {yaml_number(y)}, yaw: {_or_null(yaw, 1.0)}}}"
+            )
+        lines.append(f"    optimal_length: {_or_null(metrics.get('path_length'), metres)}")
+        lines.append(f"    narrowest: {_or_null(metrics.get('narrowest'), metres)}")
+    return ("\n".join(lines) + "\n").encode("utf-8")
+
+
+def _or_null(value: float | None, times: float) -> str:
+    return "null" if value is None else yaml_number(value * times)

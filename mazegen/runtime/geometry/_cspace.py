@@ -90,7 +90,7 @@ class Grid:
             walls = base_on_grid(arena.base, cell, rows, cols)
             blocked |= near_cells(walls, reach)
         start, goal = arena.start, arena.goal
-        ends = tuple(_end_cell(point, cell, centres_x, centres_y, blocked) for point in (start, goal))
+        ends = tuple(_end_cell(point, cell, blocked) for point in (start, goal))
         return cls(
             cell,
             rows,
@@ -106,6 +106,17 @@ class Grid:
             np.pad(walls.cumsum(axis=0).cumsum(axis=1), ((1, 0), (1, 0))),
         )
 
+    def for_task(self, start: tuple[float, float], goal: tuple[float, float]) -> Grid:
+        """The same grid (its arrays shared) from ``start`` to ``goal``: one of a floor's tasks."""
+        blocked = unpack(self.border, self.cols)
+        return replace(
+            self,
+            start=start,
+            goal=goal,
+            start_cell=_end_cell(start, self.cell, blocked),
+            goal_cell=_end_cell(goal, self.cell, blocked),
+        )
+
 
 def _bit_rows(cells: np.ndarray, words: int, *, pad: bool) -> np.ndarray:
     """``uint64[rows, words]`` of ``bool[rows, cols]``; the bits past ``cols`` set when ``pad``."""
@@ -116,13 +127,13 @@ def _bit_rows(cells: np.ndarray, words: int, *, pad: bool) -> np.ndarray:
     return (padded.reshape(rows, words, 64).astype(np.uint64) * weights).sum(axis=2, dtype=np.uint64)
 
 
-def _end_cell(
-    point: tuple[float, float], cell: float, xs: np.ndarray, ys: np.ndarray, blocked: np.ndarray
-) -> tuple[int, int]:
-    row = min(max(int(point[1] // cell), 0), len(ys) - 1)
-    col = min(max(int(point[0] // cell), 0), len(xs) - 1)
+def _end_cell(point: tuple[float, float], cell: float, blocked: np.ndarray) -> tuple[int, int]:
+    rows, cols = blocked.shape
+    row = min(max(int(point[1] // cell), 0), rows - 1)
+    col = min(max(int(point[0] // cell), 0), cols - 1)
     if not blocked[row, col] or blocked.all():
         return row, col
+    ys, xs = (np.arange(rows) + 0.5) * cell, (np.arange(cols) + 0.5) * cell
     distance = (ys[:, None] - point[1]) ** 2 + (xs[None, :] - point[0]) ** 2
     nearest = np.unravel_index(np.argmin(np.where(blocked, np.inf, distance)), blocked.shape)
     return int(nearest[0]), int(nearest[1])
@@ -130,15 +141,21 @@ def _end_cell(
 
 @lru_cache(maxsize=512)
 def grid_of(arena: Arena) -> Grid:
-    """The grid of ``arena``, built once per arena (a drive of many imported maps, each an arena of its
-    own, holds each of theirs)."""
-    return Grid.from_arena(arena)
+    """The grid of ``arena``, built once per floor (a drive of many imported maps, each an arena of its
+    own, holds each of theirs); the grids of one floor's tasks share its arrays."""
+    return _floor_grid(replace(arena, start=(0.0, 0.0), goal=(0.0, 0.0), stations=(), tasks=())).for_task(
+        arena.start, arena.goal
+    )
 
 
-@lru_cache(maxsize=16)
+@lru_cache(maxsize=64)
+def _floor_grid(floor: Arena) -> Grid:
+    return Grid.from_arena(floor)
+
+
 def point_grid_of(arena: Arena) -> Grid:
     """The grid of ``arena``, same cells, for a robot of radius 0 (a point)."""
-    return Grid.from_arena(replace(arena, robot_radius=0.0, grid=arena.cell))
+    return grid_of(replace(arena, robot_radius=0.0, grid=arena.cell))
 
 
 def grid_args(grid: Grid) -> tuple:

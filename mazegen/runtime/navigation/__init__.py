@@ -12,7 +12,14 @@ if TYPE_CHECKING:
     from mazegen.runtime.navigation._calibration import spearman
     from mazegen.runtime.navigation._connectivity import Reach, reach
     from mazegen.runtime.navigation._difficulty import Survey, survey
-    from mazegen.runtime.navigation._measures import corner_paths_of, navigation_of, reach_of, survey_of
+    from mazegen.runtime.navigation._measures import (
+        corner_paths_of,
+        navigation_of,
+        reach_of,
+        reachable_of,
+        survey_of,
+        task_views,
+    )
     from mazegen.runtime.navigation._paths import (
         Navigation,
         copy_points,
@@ -39,11 +46,13 @@ __all__ = [
     "paths_of",
     "reach",
     "reach_of",
+    "reachable_of",
     "route",
     "route_scratch",
     "spearman",
     "survey",
     "survey_of",
+    "task_views",
 ]
 
 __getattr__ = lazy_names(
@@ -52,7 +61,14 @@ __getattr__ = lazy_names(
         "_calibration": ["spearman"],
         "_connectivity": ["Reach", "reach"],
         "_difficulty": ["Survey", "survey"],
-        "_measures": ["corner_paths_of", "navigation_of", "reach_of", "survey_of"],
+        "_measures": [
+            "corner_paths_of",
+            "navigation_of",
+            "reach_of",
+            "reachable_of",
+            "survey_of",
+            "task_views",
+        ],
         "_paths": [
             "copy_points",
             "free_cells",

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry import (
     Grid,
     cspace,
@@ -81,6 +82,55 @@ def _reach_all(first, last, shapes, ids, n_el, params, valid, grid, solvable, co
         )
 
 
+def reachable(pop: Population, grid: Grid) -> np.ndarray:
+    """``float64[N]``: the share of each floor's free cells (where the robot's centre may stand) joined
+    to its start's cell, 0 for an invalid individual: 1 when no element closes off a pocket."""
+    out = np.zeros(pop.size)
+    if pop.size:
+        in_blocks(_reachable_all, pop.size, *kernel_args(pop), grid_args(grid), out, per_thread=16)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _reachable_all(first, last, shapes, ids, n_el, params, valid, grid, out):  # pragma: no cover - compiled
+    """Fill ``out`` of individuals ``first`` to ``last - 1``."""
+    rows, cols = grid[1], grid[2]
+    raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
+    free = np.zeros((rows, grid[4].shape[1]), np.uint64)
+    runs, parent = component_arrays(rows, cols)
+    sizes = np.zeros(parent.shape[0], np.int64)
+    for i in range(first, last):
+        if valid[i]:
+            cspace(shapes, ids[i], n_el[i], params[i], grid, raster, free)
+            out[i] = _reachable_share(free, cols, grid[6], runs, parent, sizes)
+
+
+@inner_kernel
+def _reachable_share(free, cols, cells, runs, parent, sizes):  # pragma: no cover - compiled
+    """The share of the free cells of bit rows ``free`` joined to the start cell (``cells[:2]``) through
+    free cells sharing edges; ``sizes`` (all zero, and left so) counts each run label's cells."""
+    count = 0
+    last = 0
+    n_last = 0
+    start = -1
+    total = 0
+    for r in range(free.shape[0]):
+        last, n_last, count = _row_joined(free, r, cols, runs, parent, last, n_last, count)
+        for j in range(n_last):
+            length = runs[last, j, 1] - runs[last, j, 0] + 1
+            sizes[runs[last, j, 2]] += length
+            total += length
+        if r == cells[0]:
+            start = run_label_at(runs, last, n_last, cells[1])
+    reached = 0
+    root = _root(parent, start) if start >= 0 else -1
+    for label in range(count):
+        if root >= 0 and _root(parent, label) == root:
+            reached += sizes[label]
+        sizes[label] = 0
+    return reached / total if total else 0.0
+
+
 @njit(cache=True)
 def component_arrays(rows, cols):  # pragma: no cover - compiled
     """Scratch of :func:`connected` on a ``rows`` x ``cols`` grid: two rows' runs, and the union-find."""
@@ -102,16 +152,24 @@ def connected(free, cols, cells, runs, parent):  # pragma: no cover - compiled
     n_last = 0
     start = goal = -1
     for r in range(free.shape[0]):
-        if not same_as_below(free, r):
-            now = 1 - last
-            n_now = row_runs_of(free, r, cols, runs, now)
-            count = _join_runs(runs, last, n_last, now, n_now, parent, count)
-            last, n_last = now, n_now
+        last, n_last, count = _row_joined(free, r, cols, runs, parent, last, n_last, count)
         if r == cells[0]:
             start = run_label_at(runs, last, n_last, cells[1])
         if r == cells[2]:
             goal = run_label_at(runs, last, n_last, cells[3])
     return start >= 0 and goal >= 0 and _root(parent, start) == _root(parent, goal)
+
+
+@njit(cache=True, inline="always")
+def _row_joined(free, r, cols, runs, parent, last, n_last, count):  # pragma: no cover - compiled
+    """Row ``r``'s runs labelled, their sets joined to those of the row below's runs (``runs[last]``,
+    ``n_last`` of them) they overlap: returns the row's slot, its run count and the labels used so far.
+    A row equal to the row below keeps its runs and labels."""
+    if same_as_below(free, r):
+        return last, n_last, count
+    now = 1 - last
+    n_now = row_runs_of(free, r, cols, runs, now)
+    return now, n_now, _join_runs(runs, last, n_last, now, n_now, parent, count)
 
 
 @njit(cache=True, inline="always")

@@ -28,6 +28,7 @@ metrics into one score from 0 (open floor) to 100, in two versions: BARN's five 
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING
@@ -76,12 +77,22 @@ class Survey:
     Attributes:
         navigation: Solvability, path length and coverage, as :func:`navigation.navigate` gives.
         table: ``float64[N, len(METRICS)]``: each metric per individual, NaN when unsolvable.
+        robot_radius: The robot's radius, which the difficulty score is scaled by.
+        tasks: The surveys of each task of a floor of several (:meth:`over_tasks`), else empty.
     """
 
     navigation: Navigation
     table: np.ndarray
-
     robot_radius: float
+    tasks: tuple[Survey, ...] = ()
+
+    @classmethod
+    def over_tasks(cls, surveys: Sequence[Survey]) -> Survey:
+        """The survey of floors of several tasks, one survey each: solvable where every task is, each
+        metric and the difficulty the tasks' mean (NaN where one is unsolvable)."""
+        table = np.mean(np.stack([survey.table for survey in surveys]), axis=0)
+        navigation = Navigation.over_tasks([survey.navigation for survey in surveys])
+        return cls(navigation, table, surveys[0].robot_radius, tuple(surveys))
 
     def metric(self, name: str) -> np.ndarray:
         """One metric's column (a name of :data:`METRICS`, or ``path_length``)."""
@@ -106,7 +117,9 @@ class Survey:
 
     @cached_property
     def difficulty(self) -> np.ndarray:
-        """:func:`difficulty_score` of every individual, NaN when unsolvable."""
+        """:func:`difficulty_score` of every individual, NaN when unsolvable (the tasks' mean)."""
+        if self.tasks:
+            return np.mean(np.stack([survey.difficulty for survey in self.tasks]), axis=0)
         return difficulty_score(self.table, self.robot_radius or self.navigation.cell)
 
 

@@ -20,6 +20,7 @@ On the configuration space of :mod:`mazegen.runtime.geometry._cspace`, per indiv
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -77,6 +78,19 @@ class Navigation:
     coverage: np.ndarray
     straight: float
     cell: float
+
+    @classmethod
+    def over_tasks(cls, tasks: Sequence[Navigation]) -> Navigation:
+        """The navigation of floors of several tasks, one navigation each: solvable where every task is,
+        the path length and straight distance the tasks' mean, the coverage the floor's."""
+        first = tasks[0]
+        return cls(
+            np.logical_and.reduce([task.solvable for task in tasks]),
+            np.mean(np.stack([task.path_length for task in tasks]), axis=0),
+            first.coverage,
+            float(np.mean([task.straight for task in tasks])),
+            first.cell,
+        )
 
 
 def kernel_args(pop: Population) -> tuple:

@@ -119,10 +119,12 @@ def legend(
         ("rect", f"{label(kind, chars - len(str(count)) - 3)} ({count})", colours[kind])
         for kind, count in sorted(types.items())
     ]
-    entries += [("circle", "start", START_COLOUR), ("circle", "goal", GOAL_COLOUR)]
+    ends = ("starts", "goals") if scene.tasks else ("start", "goal")
+    entries += [("circle", ends[0], START_COLOUR), ("circle", ends[1], GOAL_COLOUR)]
     if scene.path:
         travelled = sum(math.dist(a, b) for a, b in itertools.pairwise(scene.path))
-        entries.append(("line", f"path ({_with_unit(travelled, scene.arena.unit)})", PATH_COLOUR))
+        first = "first task's path" if scene.tasks else "path"
+        entries.append(("line", f"{first} ({_with_unit(travelled, scene.arena.unit)})", PATH_COLOUR))
     elif scene.unsolvable:
         entries.append(("line", "no path", NO_PATH_COLOUR))
     entries += [

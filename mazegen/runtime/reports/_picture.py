@@ -139,6 +139,7 @@ def _arena_contents(scene: Scene, at: Any, k: float, u: float, font: float) -> l
         )
     shapes += _trajectories(scene, at, u)
     radius = max(3.0, k * scene.arena.robot_radius)
+    shapes += _other_tasks(scene, at, 0.6 * radius, u, font)
     for point, colour in ((scene.arena.start, START_COLOUR), (scene.arena.goal, GOAL_COLOUR)):
         shapes.append(
             Shape(
@@ -191,6 +192,24 @@ def _endings(scene: Scene, at: Any, size: float, u: float) -> list[Shape]:
         if drive.ending is not None:
             kind, point = drive.ending
             shapes += end_mark(kind, at(point), size, drive.colour, 3 * u, group="drive")
+    return shapes
+
+
+def _other_tasks(scene: Scene, at: Any, radius: float, u: float, font: float) -> list[Shape]:
+    """The tasks after the first of a floor of several: each path thinner than the first's, each
+    start and goal a smaller marker, a "no path" mark where a task has none."""
+    shapes = []
+    for task in scene.tasks:
+        if task.path:
+            points = tuple(at(p) for p in task.path)
+            shapes.append(Shape("polyline", points, stroke=PATH_COLOUR, width=1.2 * u, group="elements"))
+        for point, colour in ((task.start, START_COLOUR), (task.goal, GOAL_COLOUR)):
+            circle = Shape(
+                "circle", (at(point),), colour, darker(colour), MARKER_OPACITY, u, radius, group="elements"
+            )
+            shapes.append(circle)
+        if task.unsolvable:
+            shapes += _no_path_mark(at(task.start), at(task.goal), u, font)
     return shapes
 
 

@@ -106,11 +106,23 @@ class ZoneMark:
 
 
 @dataclass(frozen=True)
+class TaskMark:
+    """One task of a floor of several, as the picture shows it: its ends, its path, or no path."""
+
+    start: Point
+    goal: Point
+    path: tuple[Point, ...]
+    unsolvable: bool
+
+
+@dataclass(frozen=True)
 class Scene:
     """What the picture shows of a scenario document.
 
     ``map_source`` names the map the floor is built on ("" for none), and ``walls`` are its walls:
-    disjoint rectangles, each its lower-left and upper-right corners; ``zones`` the arena's zones.
+    disjoint rectangles, each its lower-left and upper-right corners; ``zones`` the arena's zones;
+    ``tasks`` the tasks after the first of a floor of several (the first is ``arena``'s start and
+    goal, ``path`` and ``unsolvable``).
     """
 
     name: str
@@ -123,6 +135,7 @@ class Scene:
     map_source: str = ""
     walls: tuple[tuple[Point, Point], ...] = ()
     zones: tuple[ZoneMark, ...] = ()
+    tasks: tuple[TaskMark, ...] = ()
 
     @property
     def title(self) -> str:
@@ -210,6 +223,7 @@ def parse(doc: dict, base: BaseMap | None = None) -> Scene:
             elements.append(Element(label(element["type"], 40), rgb(element.get("colour")), outline(parts)))
         fitness = doc.get("fitness")
         path = doc.get("path") or ()
+        tasks = _tasks(arena.get("tasks", ()), doc.get("tasks", ()))
         metrics = doc.get("metrics")
         return Scene(
             name=label(doc.get("scenario", "scenario")),
@@ -225,7 +239,9 @@ def parse(doc: dict, base: BaseMap | None = None) -> Scene:
             elements=tuple(elements),
             fitness=f"{fitness:.4g}" if isinstance(fitness, (int, float)) else "n/a",
             path=tuple(_point(p) for p in path) if len(path) >= 2 else (),
-            unsolvable=isinstance(metrics, dict) and metrics.get("solvable") is False,
+            unsolvable=tasks[0].unsolvable
+            if tasks
+            else isinstance(metrics, dict) and metrics.get("solvable") is False,
             drives=_drives(doc.get("drive")),
             map_source=label(base.source) if base is not None else "",
             walls=_walls(arena.get("map"), base),
@@ -238,9 +254,28 @@ def parse(doc: dict, base: BaseMap | None = None) -> Scene:
                 )
                 for zone in arena.get("zones", ())
             ),
+            tasks=tuple(tasks[1:]),
         )
     except (KeyError, TypeError, ValueError, AttributeError) as exc:  # AttributeError: a drive not an object
         raise MazeError(f"bad scenario document: {exc!r}") from exc
+
+
+def _tasks(tasks: list, measured: list) -> list[TaskMark]:
+    """The tasks of a document's ``arena.tasks`` with their paths and solvability (its ``tasks``)."""
+    marks = []
+    for k, task in enumerate(tasks):
+        found = measured[k] if k < len(measured) else {}
+        path = found.get("path") or ()
+        metrics = found.get("metrics")
+        marks.append(
+            TaskMark(
+                _point(task["start"]),
+                _point(task["goal"]),
+                tuple(_point(p) for p in path) if len(path) >= 2 else (),
+                isinstance(metrics, dict) and metrics.get("solvable") is False,
+            )
+        )
+    return marks
 
 
 def _walls(recorded: dict | None, base: BaseMap | None) -> tuple[tuple[Point, Point], ...]:

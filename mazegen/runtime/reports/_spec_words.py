@@ -9,7 +9,7 @@ apply: a truncation spec has no tournament size.
 from __future__ import annotations
 
 from mazegen.fitness_terms import term_kind
-from mazegen.spec import Arena, Evolution, FitnessTerm, Scenario, Spec, Zone
+from mazegen.spec import Arena, Evolution, FitnessTerm, Scenario, Spec, Station, Zone
 from mazegen.text import number, quoted
 
 _INDENT = "    "
@@ -57,13 +57,24 @@ def arena_words(arena: Arena) -> list[str]:
         words = [f"map {quoted(arena.base.source)} {arena.unit}", *unknown]
     else:
         words = [f"size {number(arena.width)} x {number(arena.height)} {arena.unit}"]
-    words += [
-        f"start ({number(arena.start[0])}, {number(arena.start[1])})",
-        f"goal ({number(arena.goal[0])}, {number(arena.goal[1])})",
-        f"robot radius {number(arena.robot_radius)}",
-    ]
+    if not arena.tasks:
+        words += [
+            f"start ({number(arena.start[0])}, {number(arena.start[1])})",
+            f"goal ({number(arena.goal[0])}, {number(arena.goal[1])})",
+        ]
+    words += [_station_words(station) for station in arena.stations]
+    listed = [task for task in arena.tasks if " -> " in task.name]
+    words += [f"task {task.name}" for task in listed]
+    drawn = len(arena.tasks) - len(listed)
+    words += [f"// {drawn} tasks drawn at random (tasks N seed S)"] if drawn else []
+    words += [f"robot radius {number(arena.robot_radius)}"]
     words += [f"grid {number(arena.grid)}"] if arena.grid is not None else []
     return words + [_zone_words(zone) for zone in arena.zones]
+
+
+def _station_words(station: Station) -> str:
+    heading = "" if station.heading is None else f" heading {number(station.heading)}"
+    return f"station {station.name} ({number(station.point[0])}, {number(station.point[1])}){heading}"
 
 
 def _zone_words(zone: Zone) -> str:
