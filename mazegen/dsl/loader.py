@@ -34,7 +34,7 @@ from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.dsl.zones import check_zone_types
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.spec import METRES_PER_UNIT, Arena, Box, FitnessTerm, Spec
+from mazegen.spec import METRES_PER_UNIT, Arena, Box, ElementType, FitnessTerm, Spec
 from mazegen.text import quoted
 
 LIBRARY_DIR = Path(__file__).resolve().parent.parent / "library"
@@ -226,13 +226,14 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
     arena = arenas[scenario.arena]
     factors = _unit_factors(files, arena)
 
-    def lengths(decl: Any) -> Lengths:
+    def lengths(decl: Any) -> Lengths:  # of the file that declares it
         return Lengths(factors[id(get_model(decl))], arena)
 
-    elements = tuple(
-        place_element(decl, in_arena_units(converted[name], lengths(decl).factor), lengths(decl))
-        for name, decl in ((name, element_decls[name]) for name in scenario.elements)
-    )
+    def placed(name: str) -> ElementType:
+        decl = element_decls[name]
+        return place_element(decl, in_arena_units(converted[name], lengths(decl).factor), lengths(decl))
+
+    elements = tuple(placed(name) for name in scenario.elements)
     types = {element.name: element for element in elements}
     rows = tuple(
         convert_row(found.rows[name], types[found.rows[name].member], lengths(found.rows[name]))
