@@ -8,17 +8,19 @@ rotation names, its position along that wall drawn as any other's (within the wa
 (:class:`~mazegen.spec.Row`) is placed by the genes of its first member's slot: that member as a lone
 element of its type would be, with the row's rotation; the others follow it along the row's line
 (its members' own x axis), one member's width plus a gap apart, the gap drawn from the x gene of the
-row's second slot.
+row's second slot. Steps, walls and rows are a second pass over the elements placed alone, which a spec
+without them neither runs nor compiles.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.geometry import world_element
 from mazegen.runtime.threads import in_blocks
 from mazegen.spec import Box, Spec, placing_area, step_span, walls_reached
@@ -78,7 +80,7 @@ class Ranges:
     against: np.ndarray  # bool[E]: stands against a wall
     walls: np.ndarray  # float64[4]: the box whose sides are the walls (the arena, or a map's free cells)
     gaps: np.ndarray  # float64[R, 2]: each row's range of gaps between members
-    gap_ladders: np.ndarray  # float64[R, 3]
+    gap_ladders: np.ndarray  # float64[R, 1, 3]
 
     @classmethod
     def from_spec(cls, spec: Spec) -> Ranges:
@@ -122,16 +124,16 @@ class Ranges:
             gaps=np.array([r.spacing for r in rows], dtype=np.float64).reshape(len(rows), 2),
             gap_ladders=np.array(
                 [ladder(*r.spacing, r.spacing_step) for r in rows], dtype=np.float64
-            ).reshape(len(rows), 3),
+            ).reshape(len(rows), 1, 3),
         )
 
-    @property
-    def kernel_args(self) -> tuple[tuple[np.ndarray, ...], ...]:
-        """What the placement kernel reads: the sizes, the turns and the spots of the types (and rows)."""
-        sizes = (self.size, self.depth, self.uniform, self.aspect)
-        turns = (self.rot_lo, self.rot_hi, self.rot_free, self.rotations, self.n_rotations)
-        spots = (self.area, self.ladders, self.against, self.walls, self.gaps, self.gap_ladders)
-        return sizes, turns, spots
+    def structure(self, mapped: PopulationMap, table: ElementTable) -> tuple[Any, ...] | None:
+        """What the placement kernel reads to put elements on steps and walls and rows' members in
+        their lines, or None for a spec without any (whose kernel then compiles without them)."""
+        if not (self.gaps.size or self.against.any() or self.ladders[..., 2].any()):
+            return None
+        steps = (self.ladders, self.against, self.walls, self.gaps, self.gap_ladders)
+        return (mapped.membership, table.shapes, *steps)
 
 
 def _walls(spec: Spec) -> Box:
@@ -155,19 +157,26 @@ def _reached(spec: Spec, name: str, walls: Box, angles: tuple[float, ...]) -> tu
 
 
 @njit(cache=True, inline="always")
-def _drawn(gene, low, high, ladder):  # pragma: no cover - compiled
-    """A gene's value in ``[low, high]``: scaled into it, or one of its ladder's values."""
-    if ladder[2] > 0.0:
-        return ladder[0] + ladder[1] * ((np.int64(gene) * np.int64(ladder[2])) >> 16)
+def _scaled(gene, low, high):  # pragma: no cover - compiled
+    """A gene's value scaled into ``[low, high]``."""
     return low + (high - low) * (gene / GENE_MAX)
 
 
 @njit(cache=True, inline="always")
-def _turned(gene, turn, turns):  # pragma: no cover - compiled
+def _drawn(gene, low, high, ladders, e, axis):  # pragma: no cover - compiled
+    """A gene's value in ``[low, high]``: scaled into it, or one of the values of ladder ``ladders[e,
+    axis]`` (indexed here: a view of it would cost a reference count per element)."""
+    count = ladders[e, axis, 2]
+    if count > 0.0:
+        return ladders[e, axis, 0] + ladders[e, axis, 1] * ((np.int64(gene) * np.int64(count)) >> 16)
+    return _scaled(gene, low, high)
+
+
+@njit(cache=True, inline="always")
+def _turned(gene, turn, rot_lo, rot_hi, rot_free, rotations, n_rotations):  # pragma: no cover - compiled
     """The rotation (degrees) a gene gives type or row ``turn``."""
-    rot_lo, rot_hi, rot_free, rotations, n_rotations = turns
     if rot_free[turn]:
-        return rot_lo[turn] + (rot_hi[turn] - rot_lo[turn]) * (gene / GENE_MAX)
+        return _scaled(gene, rot_lo[turn], rot_hi[turn])
     return rotations[turn, gene % n_rotations[turn]]
 
 
@@ -216,35 +225,60 @@ def _against_wall(shapes, e, row, walls, scratch):  # pragma: no cover - compile
         row[axis] += inward * max(beyond, abs(row[axis]) * 2.3e-16)
 
 
-@njit(cache=True, inline="always")
-def _place_alone(e, turn, g, shapes, sizes, turns, spots, row, scratch):  # pragma: no cover - compiled
-    """Write into ``row`` (x, y, sx, sy, radians) where genes ``g`` place an element of type ``e``
-    turned as type or row ``turn``."""
-    size, depth, uniform = sizes[0], sizes[1], sizes[2]
-    area, ladders, against, walls = spots[0], spots[1], spots[2], spots[3]
-    row[0] = _drawn(g[0], area[e, 0], area[e, 2], ladders[e, 0])
-    row[1] = _drawn(g[1], area[e, 1], area[e, 3], ladders[e, 1])
-    row[2] = _drawn(g[2], size[e, 0], size[e, 1], ladders[e, 2])
-    row[3] = row[2] if uniform[e] else _drawn(g[3], depth[e, 0], depth[e, 1], ladders[e, 3])
-    row[4] = np.radians(_turned(g[4], turn, turns))
-    if against[e]:
-        _against_wall(shapes, e, row, walls, scratch)
-
-
 @njit(cache=True, nogil=True)
 def _placement_kernel(
-    first, last, ids, n_elements, genes, numbers, membership, shapes, sizes, turns, spots, grammar_scale, out
+    first, last, ids, n_elements, genes, numbers, sizes, turns, area, structure, grammar_scale, out
 ):  # pragma: no cover
-    uniform, aspect = sizes[2], sizes[3]
-    gaps, gap_ladders = spots[4], spots[5]
-    n_types = uniform.shape[0]
+    """Every element placed alone (``structure`` None: a spec without steps, walls or rows, whose kernel
+    compiles without them), then by :func:`_place_structure`."""
+    size, depth, uniform, aspect = sizes  # unpacked once, out of the loops
+    rot_lo, rot_hi, rot_free, rotations, n_rotations = turns
+    for i in range(first, last):
+        for k in range(n_elements[i]):
+            e = ids[i, k]
+            g = genes[i, k]
+            x = _scaled(g[0], area[e, 0], area[e, 2])
+            y = _scaled(g[1], area[e, 1], area[e, 3])
+            sx = _scaled(g[2], size[e, 0], size[e, 1])
+            sy = sx if uniform[e] else _scaled(g[3], depth[e, 0], depth[e, 1])
+            angle = _turned(g[4], e, rot_lo, rot_hi, rot_free, rotations, n_rotations)
+            if grammar_scale > 0.0:
+                nums = numbers[i, k]
+                if not np.isnan(nums[0]):
+                    sx = nums[0] * grammar_scale
+                    sy = sx if uniform[e] else sx * aspect[e]
+                if not np.isnan(nums[1]):
+                    x = nums[1]
+                if not np.isnan(nums[2]):
+                    y = nums[2]
+                if not np.isnan(nums[3]):
+                    angle = nums[3]
+            out[i, k, 0] = x
+            out[i, k, 1] = y
+            out[i, k, 2] = sx
+            out[i, k, 3] = sy
+            out[i, k, 4] = np.radians(angle)
+        out[i, n_elements[i] :] = 0.0
+    if structure is not None:
+        _place_structure(first, last, ids, n_elements, genes, sizes, turns, area, structure, out)
+
+
+@inner_kernel
+def _place_structure(
+    first, last, ids, n_elements, genes, sizes, turns, area, structure, out
+):  # pragma: no cover
+    """Put elements on their steps and walls, and rows' members in their lines, over the placement of
+    :func:`_placement_kernel` (``structure``: membership, shapes, ladders, against, walls, gaps and
+    gap ladders)."""
+    size, depth, uniform = sizes[0], sizes[1], sizes[2]
+    rot_lo, rot_hi, rot_free, rotations, n_rotations = turns
+    membership, shapes, ladders, against, walls, gaps, gap_ladders = structure
     unit = shapes[2]
     scratch = (
         np.empty((1, unit.shape[1], unit.shape[2], 2)),
         np.empty((1, unit.shape[1], 4)),
         np.empty((1, 4)),
     )
-    row = np.empty(5)
     dx, dy = 0.0, 0.0  # from one member of the row being placed to the next
     for i in range(first, last):
         for k in range(n_elements[i]):
@@ -252,35 +286,27 @@ def _placement_kernel(
             line, member = -1, 0
             if membership.shape[1] > 0:
                 line, member = membership[i, k, 0], membership[i, k, 1]
+            row = out[i, k]
             if member > 0:  # a row's later member: where its first is, moved along the row
-                lead = k - member
-                out[i, k, 0] = out[i, lead, 0] + member * dx
-                out[i, k, 1] = out[i, lead, 1] + member * dy
-                for j in range(2, 5):
-                    out[i, k, j] = out[i, lead, j]
+                lead = out[i, k - member]
+                row[0], row[1] = lead[0] + member * dx, lead[1] + member * dy
+                row[2], row[3], row[4] = lead[2], lead[3], lead[4]
                 continue
-            _place_alone(
-                e, e if line < 0 else n_types + line, genes[i, k], shapes, sizes, turns, spots, row, scratch
-            )
-            if grammar_scale > 0.0:  # numbers of the phenotype replace genes (no rows, steps or walls)
-                nums = numbers[i, k]
-                if not np.isnan(nums[0]):
-                    row[2] = nums[0] * grammar_scale
-                    row[3] = row[2] if uniform[e] else row[2] * aspect[e]
-                if not np.isnan(nums[1]):
-                    row[0] = nums[1]
-                if not np.isnan(nums[2]):
-                    row[1] = nums[2]
-                if not np.isnan(nums[3]):
-                    row[4] = np.radians(nums[3])
-            for j in range(5):
-                out[i, k, j] = row[j]
-            if line >= 0:
+            g = genes[i, k]
+            row[0] = _drawn(g[0], area[e, 0], area[e, 2], ladders, e, 0)
+            row[1] = _drawn(g[1], area[e, 1], area[e, 3], ladders, e, 1)
+            row[2] = _drawn(g[2], size[e, 0], size[e, 1], ladders, e, 2)
+            row[3] = row[2] if uniform[e] else _drawn(g[3], depth[e, 0], depth[e, 1], ladders, e, 3)
+            if line >= 0:  # a row turns as the row
+                turn = uniform.shape[0] + line
+                row[4] = np.radians(_turned(g[4], turn, rot_lo, rot_hi, rot_free, rotations, n_rotations))
+            if against[e]:
+                _against_wall(shapes, e, row, walls, scratch)
+            if line >= 0:  # the gap from the x gene of the row's second slot
+                gap = _drawn(genes[i, k + 1, 0], gaps[line, 0], gaps[line, 1], gap_ladders, line, 0)
                 low, high = _extent(shapes, e, row[2], row[3], 0)
-                gap = _drawn(genes[i, k + 1, 0], gaps[line, 0], gaps[line, 1], gap_ladders[line])
                 cos, sin = _direction(np.degrees(row[4]))
                 dx, dy = (high - low + gap) * cos, (high - low + gap) * sin
-        out[i, n_elements[i] :] = 0.0
 
 
 def placement_params(
@@ -314,9 +340,10 @@ def placement_params(
         mapped.n_elements,
         genes,
         mapped.numbers,
-        mapped.membership,
-        table.shapes,
-        *ranges.kernel_args,
+        (ranges.size, ranges.depth, ranges.uniform, ranges.aspect),
+        (ranges.rot_lo, ranges.rot_hi, ranges.rot_free, ranges.rotations, ranges.n_rotations),
+        ranges.area,
+        ranges.structure(mapped, table),
         -1.0 if grammar_scale is None else float(grammar_scale),
         params,
     )

@@ -21,7 +21,8 @@ SPEC = """units cm
 element rack { shape rect  size 200..400 step 50 x 80..110  rotation 0, 90 }
 element crate { shape square  size 40..60 step 5  at step 50 }
 element locker { shape rect  size 60..100 x 40..50  against wall }
-element bin { shape bars (0, 0)-(1, 0) (1, 0)-(1, 1) thickness 8  size 50..80  rotation -90, 0, 90, 180  against wall }
+element bin { shape bars (0, 0)-(1, 0) (1, 0)-(1, 1) thickness 8  size 50..80
+              rotation -90, 0, 90, 180  against wall }
 element cone { shape triangle  size 30..50  rotation any }
 row rackRow of rack { count 2..5  spacing 40..80 step 10 }
 row lockers of locker { count 2..4  spacing 5..20 }
