@@ -38,7 +38,8 @@ from mazegen.runtime.engine import _evolution as evolution
 from mazegen.runtime.engine._cache import EvaluationCache, genome_hashes
 from mazegen.runtime.engine._mapping import PopulationMap
 from mazegen.runtime.engine._operators import random_codons, random_genes
-from mazegen.runtime.engine._population import Population, placement_params
+from mazegen.runtime.engine._placement import placement_params
+from mazegen.runtime.engine._population import Population
 from mazegen.runtime.engine._problem import Problem, Workspace
 from mazegen.runtime.threads import thread_count, threads
 from mazegen.spec import FitnessTerm
@@ -168,10 +169,10 @@ KERNELS: dict[str, Callable[[Problem, Sample], Callable[[], object]]] = {
     "mapping, fresh arrays": lambda p, s: partial(mapping, p, s.codons),
     "mapping, reuse out=": lambda p, s: partial(mapping, p, s.codons, mapping(p, s.codons)),
     "placement decoding, fresh arrays": lambda p, s: partial(
-        placement_params, s.mapped, s.genes, p.ranges, p.spec.arena, None
+        placement_params, s.mapped, s.genes, p.ranges, p.table, None
     ),
     "placement decoding, reuse out=": lambda p, s: partial(
-        placement_params, s.mapped, s.genes, p.ranges, p.spec.arena, None, np.empty_like(s.population.params)
+        placement_params, s.mapped, s.genes, p.ranges, p.table, None, np.empty_like(s.population.params)
     ),
     "overlap": lambda p, s: partial(metrics.overlapping_pairs, s.population),
     "outside": lambda p, s: partial(metrics.elements_outside, s.population),

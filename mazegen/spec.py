@@ -53,6 +53,11 @@ class ElementType:
         colour: CSS colour used in drawings.
         semantic_class: Free-form class (robot, wall, network…).
         height: Height in arena units for 3D export.
+        position_step: Positions lie on multiples of this (``at step``), or anywhere for ``None``.
+        size_step: Sizes (widths of a rect) are ``size[0]`` plus multiples of this, or any for ``None``;
+            ``depth_step`` likewise of a rect's depth.
+        against_wall: The element stands against a wall, its back (its own -y side) to it; its
+            rotation says which wall (:data:`WALL_ROTATIONS`).
     """
 
     name: str
@@ -65,11 +70,55 @@ class ElementType:
     colour: str = "#555555"
     semantic_class: str = "obstacle"
     height: float = 100.0
+    position_step: float | None = None
+    size_step: float | None = None
+    depth_step: float | None = None
+    against_wall: bool = False
 
     @property
     def uniform(self) -> bool:
         """True when one size scales both axes (every shape but rect)."""
         return self.size2 is None
+
+
+STRUCTURE_DEFAULTS = {"position_step": None, "size_step": None, "depth_step": None, "against_wall": False}
+"""The fields of :class:`ElementType` that place it on steps and against walls, and their defaults:
+``spec.json`` leaves them out when they are the default, so a spec without them reads as before."""
+
+WALL_ROTATIONS = (0.0, 90.0, 180.0, 270.0)
+"""The rotation that turns an element's back (its own -y side) to each wall: bottom, right, top, left."""
+
+
+def wall_of(rotation: float) -> int:
+    """Which wall (an index of :data:`WALL_ROTATIONS`) an element against a wall at ``rotation`` stands at."""
+    return round(rotation / 90.0) % 4
+
+
+Box = tuple[float, float, float, float]
+"""A rectangle ``(x0, y0, x1, y1)``, lower-left and upper-right corners."""
+
+
+def step_span(low: float, high: float, step: float) -> tuple[int, int]:
+    """The multiples of ``step`` within ``[low, high]`` (a billionth of a step of rounding either way):
+    the first one's index, and how many there are."""
+    first = math.ceil(low / step - 1e-9)
+    return first, max(math.floor(high / step + 1e-9) - first + 1, 0)
+
+
+def placing_area(arena: Arena, element: ElementType, walls: Box) -> Box:
+    """Where elements of type ``element`` are placed (:meth:`Arena.area_of`); along a wall, for one that
+    stands against the walls of the box ``walls``, within that box."""
+    area = arena.area_of(element.name)
+    if not element.against_wall:
+        return area
+    return (max(area[0], walls[0]), max(area[1], walls[1]), min(area[2], walls[2]), min(area[3], walls[3]))
+
+
+def walls_reached(area: Box, walls: Box, rotations: tuple[float, ...]) -> tuple[float, ...]:
+    """Those of ``rotations`` (of an element against a wall) whose wall of the box ``walls`` the box
+    ``area``, where the element may stand, reaches (touches or crosses)."""
+    reached = (area[1] <= walls[1], area[2] >= walls[2], area[3] >= walls[3], area[0] <= walls[0])
+    return tuple(rotation for rotation in rotations if reached[wall_of(rotation)])
 
 
 @dataclass(frozen=True)
@@ -197,6 +246,19 @@ class Arena:
         longest = max(self.width, self.height)
         return max(self.robot_radius / 2, longest / 128)
 
+    def holding(self, name: str) -> tuple[Zone, ...]:
+        """The zones that hold elements of type ``name`` (``holds``)."""
+        return tuple(zone for zone in self.zones if zone.rule == "holds" and name in zone.types)
+
+    def area_of(self, name: str) -> Box:
+        """Where elements of type ``name`` are placed: the box around the zones that hold them, or the
+        whole arena (positions drawn elsewhere could only be rejected)."""
+        corners = [point for zone in self.holding(name) for point in zone.outline]
+        if not corners:
+            return (0.0, 0.0, self.width, self.height)
+        xs, ys = [x for x, _ in corners], [y for _, y in corners]
+        return (min(xs), min(ys), max(xs), max(ys))
+
 
 def task_point_problem(label: str, point: Point, width: float, height: float, radius: float) -> str | None:
     """Why ``point`` cannot be the ``start`` or ``goal`` (``label``) of a ``width x height`` arena for a
@@ -224,6 +286,35 @@ class GrammarPlacement:
 
 
 @dataclass(frozen=True)
+class Row:
+    """A row: 2..N elements of one type in a line, derived by the grammar as one choice
+    (``row rackRow of shelfRack { count 2..6  spacing 120..150 }``).
+
+    Attributes:
+        name: Identifier used in grammars and phenotypes (``rackRow``).
+        member: The element type of its members.
+        count: Fewest and most members.
+        spacing: Range of the gap between neighbours along the row's line, arena units.
+        spacing_step: Gaps are ``spacing[0]`` plus multiples of this, or any for ``None``.
+        rotations: Allowed rotations of the row (its line and every member), degrees.
+        rotation_range: Continuous rotation range, or ``None``.
+    """
+
+    name: str
+    member: str
+    count: tuple[int, int]
+    spacing: tuple[float, float]
+    spacing_step: float | None = None
+    rotations: tuple[float, ...] = (0.0,)
+    rotation_range: tuple[float, float] | None = None
+
+
+def row_count_rule(name: str) -> str:
+    """The grammar rule that chooses row ``name``'s member count: ``<rackRow-count>``."""
+    return f"<{name}-count>"
+
+
+@dataclass(frozen=True)
 class Scenario:
     """What a scenario may contain and how its grammar is written.
 
@@ -234,10 +325,13 @@ class Scenario:
         grammar: ``nested``, ``flat``, ``list`` or ``custom``.
         custom_rules: For ``custom``: ``(lhs, alternatives)`` with each
             alternative already written in BNF (PonyGE2 dialect).
-        max_elements: Placement slots; a derivation with more is invalid.
+        max_elements: Placement slots; a derivation with more is invalid (a row's members count).
         placement: ``None`` for placement genes, else grammar placement.
-        required: ``(type, count, exactly)``: every floor has ``count`` elements of the type, exactly
-            or at least; its grammar derives them first, so every floor has them.
+        required: ``(name, count, exactly)``: every floor has ``count`` elements of the type (or rows),
+            exactly or at least; its grammar derives them first, so every floor has them.
+        rows: The rows the scenario lists, in its order.
+        listed: The ``elements`` list as written, element types and rows, when it holds rows (the
+            grammar's order); empty when it names element types alone: then ``elements``.
     """
 
     name: str
@@ -248,6 +342,13 @@ class Scenario:
     max_elements: int = 32
     placement: GrammarPlacement | None = None
     required: tuple[tuple[str, int, bool], ...] = ()
+    rows: tuple[Row, ...] = ()
+    listed: tuple[str, ...] = ()
+
+    @property
+    def entries(self) -> tuple[str, ...]:
+        """What the grammar derives, in the ``elements`` list's order: element types and rows."""
+        return self.listed or self.elements
 
 
 PATH_METRICS = (
@@ -565,6 +666,12 @@ class Spec:
         return tuple(self.element(name) for name in self.scenario.elements)
 
     @property
+    def row_tokens(self) -> tuple[tuple[str, int, int, int], ...]:
+        """Each row as the mapping reads it: its name, its members' type id, its fewest and most members."""
+        ids = self.scenario.elements
+        return tuple((row.name, ids.index(row.member), *row.count) for row in self.scenario.rows)
+
+    @property
     def robot_or_default(self) -> Robot:
         """The robot the spec drives: its robot block's, or the arena's default (:func:`robot_for`)."""
         return self.robot if self.robot is not None else robot_for(self.arena)
@@ -593,11 +700,16 @@ class Spec:
         for key in ("zones", "stations", "tasks"):  # likewise before zones and tasks
             if not body["arena"][key]:
                 del body["arena"][key]
-        if not body["scenario"]["required"]:
-            del body["scenario"]["required"]
         for term in body["fitness"]:
             if term["tasks"] == "mean":
                 del term["tasks"]
+        for element in body["elements"]:  # likewise before steps and walls
+            for key, default in STRUCTURE_DEFAULTS.items():
+                if element[key] == default:
+                    del element[key]
+        for key in ("rows", "listed", "required"):  # likewise before rows and required elements
+            if not body["scenario"][key]:
+                del body["scenario"][key]
         return json.dumps(body, indent=2, sort_keys=True, allow_nan=False) + "\n"
 
     @classmethod
@@ -634,6 +746,7 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
             colour=e["colour"],
             semantic_class=e["semantic_class"],
             height=float(e["height"]),
+            **{key: e.get(key, default) for key, default in STRUCTURE_DEFAULTS.items()},
         )
         for e in data["elements"]
     )
@@ -679,6 +792,8 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
             tuple(placement["sizes"]), float(placement["scale"]), tuple(placement["positions"])
         ),
         required=tuple((str(name), int(count), bool(exact)) for name, count, exact in s.get("required", ())),
+        rows=tuple(_row_from_dict(row) for row in s.get("rows", ())),
+        listed=tuple(s.get("listed", ())),
     )
     fitness = tuple(
         FitnessTerm(
@@ -700,6 +815,19 @@ def _spec_from_dict(data: dict[str, Any]) -> Spec:
         fitness,
         Evolution(**{**FIRST_OPERATORS, **data["evolution"]}),
         _robot_from_dict(data.get("robot")),
+    )
+
+
+def _row_from_dict(data: dict[str, Any]) -> Row:
+    count = data["count"]
+    return Row(
+        name=data["name"],
+        member=data["member"],
+        count=(int(count[0]), int(count[1])),
+        spacing=_pair(data["spacing"]),
+        spacing_step=data["spacing_step"],
+        rotations=tuple(float(r) for r in data["rotations"]),
+        rotation_range=_optional_pair(data["rotation_range"]),
     )
 
 

@@ -100,6 +100,8 @@ def _base(prop: Any, unknown: Any) -> BaseMap:
     unit = prop.unit or "m"
     if unit not in METRES_PER_UNIT:
         fail(prop, f"a map's cells are in metres: give its arena in mm, cm or m (map {quoted(prop.file)} cm)")
+    if "\0" in prop.file:  # no file name holds one; the operating system refuses it
+        fail(prop, f"no map file {quoted(prop.file)}: a file name holds no NUL character")
     spec_file = get_location(prop)["filename"]
     path = ((Path(spec_file).parent if spec_file else Path.cwd()) / prop.file).resolve()
     if not path.is_file():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Collection
 from typing import Any
 
 from mazegen.dsl.bounds import MAX_LENGTH, MAX_SLOTS, MAX_TARGET, MAX_TERMINALS, MAX_WEIGHT, at_most
@@ -21,6 +22,7 @@ from mazegen.spec import (
     GrammarPlacement,
     Scenario,
     out_of_bounds,
+    row_count_rule,
 )
 from mazegen.text import decode_escapes, quoted
 
@@ -40,9 +42,9 @@ def _int_values(obj: Any, what: str, *, minimum: int) -> tuple[int, ...]:
     return tuple(range(obj.low, obj.high + 1, step))
 
 
-def _bnf_text(symbol: Any) -> str:
-    if type(symbol).__name__ != "TextSymbol":
-        return symbol.name  # a rule or an element, written as is
+def _bnf_text(symbol: Any, rows: Collection[str]) -> str:
+    if type(symbol).__name__ != "TextSymbol":  # a rule or an element, written as is; a row with its count
+        return f"{symbol.name}({row_count_rule(symbol.name)})" if symbol.name in rows else symbol.name
     text = symbol.text
     if text == "":
         fail(symbol, "empty text in a grammar rule")
@@ -57,31 +59,38 @@ def _bnf_text(symbol: Any) -> str:
     return f"'{text}'" if '"' in text else f'"{text}"'
 
 
-def _edge_is_word(symbol: Any, *, end: bool) -> bool:
+def _edge_is_word(symbol: Any, rows: Collection[str], *, end: bool) -> bool:
     """Whether a symbol may end (or start) with a word character once derived."""
     if type(symbol).__name__ != "TextSymbol":
-        return True  # element names are words; a rule may derive one
+        return not (end and symbol.name in rows)  # names are words; a rule may derive one; a row ends in ')'
     return bool(symbol.text) and bool(_WORD.match(symbol.text[-1] if end else symbol.text[0]))
 
 
-def _bnf_alternative(alternative: Any) -> str:
+def _bnf_alternative(alternative: Any, rows: Collection[str]) -> str:
     pieces: list[str] = []
     previous = None
     for symbol in alternative.symbols:
         # Two words side by side would fuse (`cobotrouter`) and no longer name elements.
-        if previous is not None and _edge_is_word(previous, end=True) and _edge_is_word(symbol, end=False):
+        if (
+            previous is not None
+            and _edge_is_word(previous, rows, end=True)
+            and _edge_is_word(symbol, rows, end=False)
+        ):
             pieces.append(" ")
-        pieces.append(_bnf_text(symbol))
+        pieces.append(_bnf_text(symbol, rows))
         previous = symbol
     return "".join(pieces)
 
 
-def _custom_rules(grammar: Any, known_elements: dict[str, Any]) -> tuple[tuple, list[str]]:
+def _custom_rules(
+    grammar: Any, known_elements: dict[str, Any], rows: dict[str, Any]
+) -> tuple[tuple, list[str]]:
     rules: dict[str, Any] = {}
     for rule in grammar.rules:
         if rule.lhs in rules:
             fail(rule, f"rule {rule.lhs} is defined twice (first at {where(rules[rule.lhs])})")
         rules[rule.lhs] = rule
+    known = {**known_elements, **rows}
     used: list[str] = []
     for rule in grammar.rules:
         for alternative in rule.alternatives:
@@ -93,19 +102,29 @@ def _custom_rules(grammar: Any, known_elements: dict[str, Any]) -> tuple[tuple, 
                         f"rule {symbol.name} is used but never defined{suggestion(symbol.name, rules)}",
                     )
                 if kind == "ElementUse":
-                    if symbol.name not in known_elements:
-                        fail(
-                            symbol,
-                            f"unknown element '{symbol.name}'{suggestion(symbol.name, known_elements)}",
-                        )
+                    if symbol.name not in known:
+                        fail(symbol, f"unknown element '{symbol.name}'{suggestion(symbol.name, known)}")
                     if symbol.name not in used:
                         used.append(symbol.name)
-    converted = tuple((r.lhs, tuple(_bnf_alternative(a) for a in r.alternatives)) for r in grammar.rules)
+    for name in used:
+        if name in rows and row_count_rule(name) in rules:
+            fail(
+                rules[row_count_rule(name)],
+                f"rule {row_count_rule(name)} chooses the count of row '{name}', which MazeGen writes: "
+                "give your rule another name",
+            )
+    converted = tuple(
+        (r.lhs, tuple(_bnf_alternative(a, rows) for a in r.alternatives)) for r in grammar.rules
+    )
     return converted, used
 
 
-def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, Any], genome: int) -> Scenario:
-    """Check the ``scenario`` block against the declared arenas and elements."""
+def convert_scenario(
+    decl: Any, arenas: dict[str, Arena], elements: dict[str, Any], rows: dict[str, Any], genome: int
+) -> Scenario:
+    """Check the ``scenario`` block against the declared arenas, elements and rows (``rows`` its
+    declarations, each of a declared element: see :func:`~mazegen.dsl.structure.check_row_members`);
+    the scenario's rows are left to the caller, which converts them into the arena's units."""
     what = f"scenario '{decl.name}'"
     if decl.arena not in arenas:
         fail(decl, f"unknown arena '{decl.arena}'{suggestion(decl.arena, arenas)}")
@@ -115,16 +134,16 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
     names: list[str] = []
     if "ElementsProperty" in props:
         for use in props["ElementsProperty"].elements:
-            if use.name not in elements:
-                fail(use, f"unknown element '{use.name}'{suggestion(use.name, elements)}")
+            if use.name not in elements and use.name not in rows:
+                fail(use, f"unknown element '{use.name}'{suggestion(use.name, {**elements, **rows})}")
             if use.name in names:
-                fail(use, f"element '{use.name}' is listed twice")
+                fail(use, f"{'row' if use.name in rows else 'element'} '{use.name}' is listed twice")
             names.append(use.name)
     grammar = props.get("GrammarProperty")
     style = grammar.style if grammar is not None else "nested"
     custom: tuple = ()
     if style == "custom":
-        custom, used = _custom_rules(grammar, elements)
+        custom, used = _custom_rules(grammar, elements, rows)
         for name in used:
             if names and name not in names:
                 fail(props["ElementsProperty"], f"the grammar uses '{name}', which 'elements' does not list")
@@ -151,8 +170,13 @@ def convert_scenario(decl: Any, arenas: dict[str, Arena], elements: dict[str, An
         at_most(prop, scale, MAX_LENGTH, "scale")
         at_most(prop, sizes[-1] * scale, MAX_LENGTH, f"sizes up to {sizes[-1]} x scale {scale:g}")
         placement = GrammarPlacement(sizes, scale, positions)
-    required = required_counts(needed, names, style, max_elements)
-    return Scenario(decl.name, decl.arena, tuple(names), style, custom, max_elements, placement, required)
+    required = required_counts(needed, names, style, max_elements, rows)
+    # A row's members are of its element type: a type of the scenario (an id) whether listed or not.
+    types = tuple(dict.fromkeys(rows[name].member if name in rows else name for name in names))
+    listed = tuple(names) if any(name in rows for name in names) else ()
+    return Scenario(
+        decl.name, decl.arena, types, style, custom, max_elements, placement, required, listed=listed
+    )
 
 
 def convert_fitness(decl: Any | None, elements: tuple[str, ...]) -> tuple[FitnessTerm, ...]:

@@ -11,9 +11,12 @@ from typing import Any
 from mazegen.dsl import shapes
 from mazegen.dsl.bounds import MAX_ANGLE, MAX_CORNERS, MAX_LENGTH, at_most
 from mazegen.dsl.located import check_range, fail, single_properties
-from mazegen.spec import Arena, ElementType, Part
+from mazegen.spec import Arena, ElementType, Part, Zone
 
 _COLOUR = re.compile(r"#[0-9a-fA-F]{3}|#[0-9a-fA-F]{6}|[a-zA-Z]{3,20}")
+
+PROPERTY_LABELS = {"StepProperty": "at step", "WallProperty": "against wall"}
+"""How messages name the element properties of two words."""
 
 
 def _parts(shape: Any) -> tuple[Part, ...]:
@@ -55,12 +58,23 @@ def _check_points(points: list[Any]) -> None:
             )
 
 
-def _range(obj: Any, what: str) -> tuple[float, float]:
+def length_range(obj: Any, what: str) -> tuple[float, float]:
+    """A positive range ``LOW..HIGH`` (or one length) of lengths, within the largest length."""
     low = obj.low
     high = low if obj.high is None else obj.high
     check_range(obj, low, high, what)
     at_most(obj, high, MAX_LENGTH, what)
     return (low, high)
+
+
+def range_step(obj: Any, what: str) -> float | None:
+    """The ``step S`` of a range ``LOW..HIGH step S``, positive and within the largest length."""
+    if obj.step is None:
+        return None
+    if obj.step <= 0:
+        fail(obj, f"{what} step must be positive, got {obj.step:g}")
+    at_most(obj, obj.step, MAX_LENGTH, f"{what} step")
+    return obj.step
 
 
 def _angles(obj: Any, angles: tuple[float, ...]) -> None:
@@ -69,7 +83,8 @@ def _angles(obj: Any, angles: tuple[float, ...]) -> None:
             fail(obj, f"rotation angles must be within -{MAX_ANGLE}..{MAX_ANGLE}, got {angle:g}")
 
 
-def _rotation(prop: Any | None) -> dict[str, Any]:
+def rotation_of(prop: Any | None) -> dict[str, Any]:
+    """The ``rotations`` or ``rotation_range`` a ``rotation`` property gives (none: nothing)."""
     if prop is None:
         return {}
     if prop.free:
@@ -86,22 +101,24 @@ def _rotation(prop: Any | None) -> dict[str, Any]:
 def convert_element(decl: Any) -> ElementType:
     """Check one ``element`` block and convert it."""
     what = f"element '{decl.name}'"
-    props = single_properties(decl.properties, what)
+    props = single_properties(decl.properties, what, labels=PROPERTY_LABELS)
     if "ShapeProperty" not in props:
         fail(decl, f"{what} has no shape (add e.g. 'shape rect')")
     if "SizeProperty" not in props:
         fail(decl, f"{what} has no size (add e.g. 'size 20..60')")
     shape = props["ShapeProperty"].shape
     size_prop = props["SizeProperty"]
-    size = _range(size_prop.size, "size")
+    size = length_range(size_prop.size, "size")
     size2 = None
+    extras: dict[str, Any] = rotation_of(props.get("RotationProperty"))
+    extras["size_step"] = range_step(size_prop.size, "size")
     if shape.kind == "rect":
         if size_prop.depth is None:
             fail(size_prop, f"{what} is a rect: give 'size WIDTH x DEPTH', e.g. 'size 10..20 x 100..300'")
-        size2 = _range(size_prop.depth, "depth")
+        size2 = length_range(size_prop.depth, "depth")
+        extras["depth_step"] = range_step(size_prop.depth, "depth")
     elif size_prop.depth is not None:
         fail(size_prop.depth, f"only a rect takes a depth; {what} is a {shape.kind}")
-    extras: dict[str, Any] = _rotation(props.get("RotationProperty"))
     if "ColourProperty" in props:
         colour = props["ColourProperty"].colour
         if not _COLOUR.fullmatch(colour):
@@ -120,15 +137,19 @@ def convert_element(decl: Any) -> ElementType:
     )
 
 
-def _smallest_across(element: ElementType) -> float:
-    """The longest distance between two points of ``element`` at its smallest size, in any rotation."""
+def smallest_outline(element: ElementType) -> list[tuple[float, float]]:
+    """The vertices of ``element`` at its smallest size, in its own frame (before rotation)."""
     sx = element.size[0]
     sy = sx if element.size2 is None else element.size2[0]
-    points = [
+    return [
         (ux * sx + ox, uy * sy + oy)
         for part in element.parts
         for (ux, uy), (ox, oy) in zip(part.unit, part.offset)
     ]
+
+
+def across(points: list[tuple[float, float]]) -> float:
+    """The longest distance between two of ``points``: their extent in any rotation."""
     return max(math.dist(p, q) for p, q in itertools.combinations(points, 2))
 
 
@@ -136,24 +157,29 @@ def check_fits(decl: Any, element: ElementType, arena: Arena) -> None:
     """Fail at an element's declaration when even its smallest size cannot lie wholly inside ``arena``
     (two of its points farther apart than the arena's corners): sizes meant in another unit, such as
     a library in cm under an arena in m; likewise for the zones that hold it."""
-    across, diagonal = _smallest_across(element), math.hypot(arena.width, arena.height)
+    width, diagonal = across(smallest_outline(element)), math.hypot(arena.width, arena.height)
     unit = arena.unit
-    if across > diagonal:
+    if width > diagonal:
         fail(
             decl,
             f"element '{element.name}' can never fit inside arena '{arena.name}' "
-            f"({arena.width:g} x {arena.height:g} {unit}): at its smallest size it is {across:.4g} {unit} "
+            f"({arena.width:g} x {arena.height:g} {unit}): at its smallest size it is {width:.4g} {unit} "
             f"across, the arena's diagonal {diagonal:.4g} {unit} (are its sizes in another unit?)",
         )
-    holding = [z for z in arena.zones if z.rule == "holds" and element.name in z.types]
+    holding = arena.holding(element.name)
     widest = max((math.dist(*_box_corners(z.outline)) for z in holding), default=math.inf)
-    if across > widest:
-        names = ", ".join(f"'{z.name}'" for z in holding)
+    if width > widest:
         fail(
             decl,
-            f"element '{element.name}' can never fit inside the zones that hold it ({names}): at its "
-            f"smallest size it is {across:.4g} {unit} across, the widest zone's diagonal {widest:.4g} {unit}",
+            f"element '{element.name}' can never fit inside the zones that hold it ({zone_names(holding)}): "
+            f"at its smallest size it is {width:.4g} {unit} across, the widest zone's diagonal "
+            f"{widest:.4g} {unit}",
         )
+
+
+def zone_names(zones: tuple[Zone, ...]) -> str:
+    """``'racks', 'yard'``: the zones' names as messages give them."""
+    return ", ".join(f"'{zone.name}'" for zone in zones)
 
 
 def _box_corners(outline: tuple[tuple[float, float], ...]) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -162,8 +188,8 @@ def _box_corners(outline: tuple[tuple[float, float], ...]) -> tuple[tuple[float,
 
 
 def in_arena_units(element: ElementType, factor: float) -> ElementType:
-    """``element`` with its lengths (sizes, bar thicknesses, height) multiplied by ``factor``: declared in
-    a file whose ``units`` differ from the arena's."""
+    """``element`` with its lengths (sizes and their steps, bar thicknesses, height) multiplied by
+    ``factor``: declared in a file whose ``units`` differ from the arena's."""
     if factor == 1.0:
         return element
     parts = tuple(
@@ -175,4 +201,6 @@ def in_arena_units(element: ElementType, factor: float) -> ElementType:
         size=(element.size[0] * factor, element.size[1] * factor),
         size2=None if element.size2 is None else (element.size2[0] * factor, element.size2[1] * factor),
         height=element.height * factor,
+        size_step=None if element.size_step is None else element.size_step * factor,
+        depth_step=None if element.depth_step is None else element.depth_step * factor,
     )

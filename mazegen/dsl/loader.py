@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
 from collections.abc import Iterator
 from contextvars import ContextVar
@@ -20,11 +21,20 @@ from mazegen.dsl.elements import check_fits, convert_element, in_arena_units
 from mazegen.dsl.located import display_path, fail, where
 from mazegen.dsl.metamodel import metamodel
 from mazegen.dsl.robot import convert_robot
+from mazegen.dsl.structure import (
+    Lengths,
+    check_placed,
+    check_row_fits,
+    check_row_members,
+    check_structure,
+    convert_row,
+    place_element,
+)
 from mazegen.dsl.syntax_errors import syntax_error
 from mazegen.dsl.zones import check_zone_types
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
-from mazegen.spec import METRES_PER_UNIT, Arena, FitnessTerm, Spec
+from mazegen.spec import METRES_PER_UNIT, Arena, Box, ElementType, FitnessTerm, Spec
 from mazegen.text import quoted
 
 LIBRARY_DIR = Path(__file__).resolve().parent.parent / "library"
@@ -151,64 +161,97 @@ def _collect(main: ParsedFile) -> list[ParsedFile]:
     return files
 
 
-def _declarations(files: list[ParsedFile]) -> tuple[dict[str, Any], dict[str, Any], dict[str, Any]]:
-    """Element and arena declarations of all files (names unique) and the main file's blocks."""
+@dataclass(frozen=True)
+class Declarations:
+    """The declarations of a file and the files it imports: elements, rows and arenas by name, and the
+    main file's blocks (scenario, fitness, evolution; a robot from any file) by their textX class."""
+
+    elements: dict[str, Any]
+    rows: dict[str, Any]
+    arenas: dict[str, Any]
+    singles: dict[str, Any]
+
+
+_NAMED = {"ElementDecl": "elements", "RowDecl": "rows", "ArenaDecl": "arenas"}
+
+
+def _declarations(files: list[ParsedFile]) -> Declarations:
+    """Element, row and arena declarations of all files (element and row names unique together, arena
+    names among arenas) and the main file's blocks."""
     main = files[0]
-    element_decls: dict[str, Any] = {}
-    arena_decls: dict[str, Any] = {}
-    singles: dict[str, Any] = {}
+    found = Declarations({}, {}, {}, {})
     for parsed in files:
         for decl in parsed.model.declarations:
             kind = type(decl).__name__
-            if kind in ("ElementDecl", "ArenaDecl"):
-                table = element_decls if kind == "ElementDecl" else arena_decls
-                if decl.name in table:
-                    fail(decl, f"'{decl.name}' is already declared at {where(table[decl.name])}")
+            if kind in _NAMED:
+                table = getattr(found, _NAMED[kind])
+                first = (table if kind == "ArenaDecl" else found.elements | found.rows).get(decl.name)
+                if first is not None:
+                    fail(decl, f"'{decl.name}' is already declared at {where(first)}")
                 table[decl.name] = decl
             elif parsed is not main and kind != "RobotDecl":
                 fail(
                     decl,
-                    f"an imported file may declare only elements, arenas and a robot; {main.label} "
+                    f"an imported file may declare only elements, rows, arenas and a robot; {main.label} "
                     "holds the scenario, fitness and evolution",
                 )
-            elif kind == "RobotDecl" and kind in singles:
-                fail(decl, f"only one robot block per spec (first at {where(singles[kind])})")
-            elif kind in singles:
+            elif kind == "RobotDecl" and kind in found.singles:
+                fail(decl, f"only one robot block per spec (first at {where(found.singles[kind])})")
+            elif kind in found.singles:
                 fail(
                     decl,
                     f"only one {kind.removesuffix('Decl').lower()} block per file "
-                    f"(first at {where(singles[kind])})",
+                    f"(first at {where(found.singles[kind])})",
                 )
             else:
-                singles[kind] = decl
-    return element_decls, arena_decls, singles
+                found.singles[kind] = decl
+    check_row_members(found.rows, found.elements)
+    return found
 
 
 def spec_from_files(files: list[ParsedFile]) -> Spec:
     """Check and convert the main file (``files[0]``) and its imports."""
     main = files[0]
-    element_decls, arena_decls, singles = _declarations(files)
+    found = _declarations(files)
+    element_decls, singles = found.elements, found.singles
     if "ScenarioDecl" not in singles:
         raise MazeError(
             "no scenario declared (a spec needs 'scenario NAME on ARENA { ... }')", filename=main.label
         )
     evolution = convert_evolution(singles.get("EvolutionDecl"))
-    arenas = {name: convert_arena(decl) for name, decl in arena_decls.items()}
-    scenario = convert_scenario(singles["ScenarioDecl"], arenas, element_decls, evolution.genome)
+    arenas = {name: convert_arena(decl) for name, decl in found.arenas.items()}
+    scenario = convert_scenario(singles["ScenarioDecl"], arenas, element_decls, found.rows, evolution.genome)
     # Every declared element is checked, used or not, so a library's mistakes surface.
     converted = {name: convert_element(decl) for name, decl in element_decls.items()}
     arena = arenas[scenario.arena]
     factors = _unit_factors(files, arena)
-    elements = tuple(
-        in_arena_units(converted[name], factors[id(get_model(element_decls[name]))])
-        for name in scenario.elements
+
+    def lengths(decl: Any) -> Lengths:  # of the file that declares it
+        return Lengths(factors[id(get_model(decl))], arena)
+
+    def placed(name: str) -> ElementType:
+        decl = element_decls[name]
+        return place_element(decl, in_arena_units(converted[name], lengths(decl).factor), lengths(decl))
+
+    elements = tuple(placed(name) for name in scenario.elements)
+    types = {element.name: element for element in elements}
+    rows = tuple(
+        convert_row(found.rows[name], types[found.rows[name].member], lengths(found.rows[name]))
+        for name in scenario.entries
+        if name in found.rows
     )
+    scenario = dataclasses.replace(scenario, rows=rows)
+    check_structure(singles["ScenarioDecl"], scenario, element_decls)
     if scenario.placement is None:  # else the grammar's numbers size the elements, not their ranges
+        walls = _walls(arena)
         for element in elements:
             check_fits(element_decls[element.name], element, arena)
+            check_placed(element_decls[element.name], element, arena, walls)
+        for row in rows:
+            check_row_fits(found.rows[row.name], row, types[row.member], arena)
     fitness = convert_fitness(singles.get("FitnessDecl"), scenario.elements)
-    zone_props = [p for p in arena_decls[scenario.arena].properties if type(p).__name__ == "ZoneProperty"]
-    check_zone_types(zone_props, set(element_decls))
+    zone_props = [p for p in found.arenas[scenario.arena].properties if type(p).__name__ == "ZoneProperty"]
+    check_zone_types(zone_props, set(element_decls), {name: decl.member for name, decl in found.rows.items()})
     if (arena.base is not None or arena.zones) and not any(term.kind == "outside" for term in fitness):
         fitness = (*fitness, FitnessTerm("outside", reject=True))  # elements where the map and zones allow
     robot = convert_robot(singles.get("RobotDecl"), arena, fitness, singles.get("FitnessDecl"))
@@ -222,6 +265,15 @@ def spec_from_files(files: list[ParsedFile]) -> Spec:
         evolution=evolution,
         robot=robot,
     )
+
+
+def _walls(arena: Arena) -> Box:
+    """The box whose sides an element against a wall stands at: the arena's, or the free cells' of its map."""
+    if arena.base is None:
+        return (0.0, 0.0, arena.width, arena.height)
+    from mazegen.maps import free_box  # numpy: only for an arena on a map
+
+    return free_box(arena.base)
 
 
 def _unit_factors(files: list[ParsedFile], arena: Arena) -> dict[int, float]:
@@ -244,11 +296,15 @@ def _unit_factors(files: list[ParsedFile], arena: Arena) -> dict[int, float]:
 
 
 def check_library(files: list[ParsedFile]) -> None:
-    """Check a file that declares no scenario (an element library)."""
-    element_decls, arena_decls, _ = _declarations(files)
-    for decl in element_decls.values():
-        convert_element(decl)
-    for decl in arena_decls.values():
+    """Check a file that declares no scenario (an element library): its lengths are checked, not converted
+    (that needs the arena a scenario is on)."""
+    found = _declarations(files)
+    elements = {
+        name: place_element(decl, convert_element(decl), Lengths()) for name, decl in found.elements.items()
+    }
+    for decl in found.rows.values():
+        convert_row(decl, elements[decl.member], Lengths())
+    for decl in found.arenas.values():
         convert_arena(decl)
 
 

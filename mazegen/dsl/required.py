@@ -3,6 +3,7 @@ against the scenario's elements, its grammar and its slots."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 from mazegen.dsl.located import fail, where
@@ -11,14 +12,20 @@ REQUIRED_PROPERTY = "RequiredProperty"
 
 
 def required_counts(
-    props: list[Any], names: list[str], style: str, max_elements: int
+    props: list[Any], names: list[str], style: str, max_elements: int, rows: Mapping[str, Any]
 ) -> tuple[tuple[str, int, bool], ...]:
-    """The ``(type, count, exactly)`` of a scenario's ``exactly`` and ``at least`` properties."""
+    """The ``(name, count, exactly)`` of a scenario's ``exactly`` and ``at least`` properties (``names``:
+    its ``elements`` list, element types and ``rows``; a row may be required as an element is)."""
     found: dict[str, Any] = {}
     for prop in props:
         name = prop.element.name
         if name not in names:
             fail(prop.element, f"'{name}' is not an element of this scenario (elements {', '.join(names)})")
+        adding = [row for row in names if row in rows and rows[row].member == name]
+        if prop.exactly and adding:
+            fail(
+                prop, f"'{name}' is required exactly, and row '{adding[0]}' adds more of it: write 'at least'"
+            )
         if name in found:
             fail(prop, f"'{name}' is required twice (first at {where(found[name])})")
         if prop.count < 1:

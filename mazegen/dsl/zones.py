@@ -40,10 +40,15 @@ def convert_zones(props: list[Any], width: float, height: float) -> tuple[Zone, 
     return tuple(zones.values())
 
 
-def check_zone_types(props: list[Any], declared: set[str]) -> None:
-    """Fail at a zone naming an element type that is not declared."""
+def check_zone_types(props: list[Any], declared: set[str], rows: dict[str, str]) -> None:
+    """Fail at a zone naming an element type that is not declared, or a row (``rows``: each row's
+    members' type, by the row's name)."""
     for prop in props:
         for name in getattr(prop.rule, "types", ()):
+            if name in rows:
+                fail(
+                    prop.rule, f"zone '{prop.name}': '{name}' is a row: name its members' type '{rows[name]}'"
+                )
             if name not in declared:
                 fail(prop.rule, f"zone '{prop.name}': unknown element '{name}'{suggestion(name, declared)}")
 

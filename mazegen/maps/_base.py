@@ -14,7 +14,7 @@ import numpy as np
 
 from mazegen.maps._cells import wall_rectangles
 from mazegen.maps._occupancy import read_occupancy_map
-from mazegen.spec import BaseMap
+from mazegen.spec import BaseMap, Box
 
 UNKNOWN = ("blocked", "free")
 """What an arena may make of its map's unknown cells (``unknown blocked``, the default, or ``free``)."""
@@ -74,6 +74,23 @@ def wall_boxes(base: BaseMap) -> tuple[tuple[float, float, float, float], ...]:
     return tuple(
         (c0 * cell, r0 * cell, (c1 + 1) * cell, (r1 + 1) * cell)
         for r0, r1, c0, c1 in wall_rectangles(base_cells(base))
+    )
+
+
+@lru_cache(maxsize=64)
+def free_box(base: BaseMap) -> Box:
+    """The smallest box around the base's free cells, in arena units (the whole map when none is free):
+    the walls an element ``against wall`` stands against, the inner faces of a building's outer walls."""
+    free = ~base_cells(base)
+    rows, cols = np.flatnonzero(free.any(axis=1)), np.flatnonzero(free.any(axis=0))
+    if rows.size == 0:
+        return (0.0, 0.0, base.cols * base.resolution, base.rows * base.resolution)
+    cell = base.resolution
+    return (
+        float(cols[0] * cell),
+        float(rows[0] * cell),
+        float((cols[-1] + 1) * cell),
+        float((rows[-1] + 1) * cell),
     )
 
 

@@ -57,6 +57,21 @@ def tasks(body: str, *, unit: str = "cm") -> str:
     return f"arena floor {{ size 1000 x 800 {unit} robot radius 20\n{body} }}\n"
 
 
+ROW = "row line of box { count 2..4  spacing 10..20 }\n"
+PX_ARENA = "arena floor { size 1000 x 800 px start (50, 50) goal (950, 750) robot radius 20 }\n"
+
+
+def rows(
+    *,
+    row: str = ROW,
+    scenario: str = "scenario s on floor { elements line }\n",
+    arena: str = ARENA,
+    element: str = ELEMENT,
+) -> str:
+    """A spec of rows: the element box, the arena, the scenario, then the row(s) (line 4 on)."""
+    return element + arena + scenario + row
+
+
 # (name, text, expected line:col, expected message fragment)
 BAD_SPECS = [
     ("syntax: unknown keyword", "elemnt box { }\n", "1:1", "expected 'units', 'import', 'element'"),
@@ -1063,6 +1078,267 @@ BAD_SPECS = [
         "3:36",
         "a custom grammar says itself what a floor holds: required elements need a generated one",
     ),
+    (
+        "map: a file name with a NUL character",
+        spec(arena=hall('map "hall\u0000.yaml" cm')),
+        "2:15",
+        "a file name holds no NUL character",
+    ),
+    (
+        "required: exactly, and a row adds more",
+        rows(scenario="scenario s on floor { elements box, line exactly 2 box }\n"),
+        "3:42",
+        "'box' is required exactly, and row 'line' adds more of it: write 'at least'",
+    ),
+    # Structure: steps, walls and rows.
+    (
+        "row: of an unknown element type",
+        rows(row="row line of bx { count 2..4 spacing 10..20 }\n"),
+        "4:1",
+        "row 'line' of unknown element 'bx' (did you mean 'box'?)",
+    ),
+    (
+        "row: of a row",
+        rows(
+            row=ROW + "row two of line { count 2 spacing 5 }\n",
+            scenario="scenario s on floor { elements two }\n",
+        ),
+        "5:1",
+        "row 'two' is of row 'line': a row's members are elements",
+    ),
+    (
+        "row: no count",
+        rows(row="row line of box { spacing 10..20 }\n"),
+        "4:1",
+        "row 'line' has no count (add e.g. 'count 2..6')",
+    ),
+    (
+        "row: no spacing",
+        rows(row="row line of box { count 2..4 }\n"),
+        "4:1",
+        "row 'line' has no spacing (add e.g. 'spacing 50..100')",
+    ),
+    (
+        "row: fewer than two members",
+        rows(row="row line of box { count 1..4 spacing 10 }\n"),
+        "4:19",
+        "a row has at least 2 members, got 1",
+    ),
+    (
+        "row: an empty count range",
+        rows(row="row line of box { count 5..3 spacing 10 }\n"),
+        "4:19",
+        "empty count range 5..3 (low is above high)",
+    ),
+    (
+        "row: more members than a floor holds",
+        rows(row="row line of box { count 2..2000 spacing 10 }\n"),
+        "4:19",
+        "a row has at most 1000 members (the most elements a floor holds), got 2000",
+    ),
+    (
+        "row: a spacing that is not positive",
+        rows(row="row line of box { count 2 spacing 0..5 }\n"),
+        "4:35",
+        "spacing must be positive, got 0",
+    ),
+    (
+        "row: a spacing step that is not positive",
+        rows(row="row line of box { count 2 spacing 5..10 step 0 }\n"),
+        "4:35",
+        "spacing step must be positive, got 0",
+    ),
+    (
+        "row: a spacing whose unit cannot be converted",
+        rows(row="row line of box { count 2 spacing 5 cm }\n", arena=PX_ARENA),
+        "4:27",
+        "spacing 5 cm cannot be converted into px, the unit of arena 'floor': px has no size in metres "
+        "(write it in px, or without a unit)",
+    ),
+    (
+        "row: can never fit the arena at any of its rotations",
+        rows(
+            scenario="scenario s on floor { elements line max elements 60 }\n",
+            row="row line of box { count 40..50 spacing 10 rotation 0, 90 }\n",
+        ),
+        "4:1",
+        "row 'line' can never fit inside arena 'floor' (1000 x 800 cm): at its fewest members (40), "
+        "smallest size and spacing it is 1190 x 20 cm at rotation 0, 20 x 1190 cm at rotation 90",
+    ),
+    (
+        "row: longer than the arena's diagonal",
+        rows(
+            scenario="scenario s on floor { elements line max elements 60 }\n",
+            row="row line of box { count 50 spacing 10 rotation any }\n",
+        ),
+        "4:1",
+        "row 'line' can never fit inside arena 'floor' (1000 x 800 cm): at its fewest members (50), "
+        "smallest size and spacing it is 1490 cm across, the diagonal of the arena 1281 cm",
+    ),
+    (
+        "row: can never fit the zones that hold its members",
+        rows(
+            arena=ARENA.replace(
+                "robot radius 20", "robot radius 20 zone racks rect (0, 0) (200, 200) holds box"
+            ),
+            row="row line of box { count 8 spacing 10 }\n",
+        ),
+        "4:1",
+        "row 'line' can never fit inside the zones that hold box ('racks'): at its fewest members (8), "
+        "smallest size and spacing it is 230 x 20 cm at rotation 0",
+    ),
+    (
+        "row: more members than max elements",
+        rows(
+            scenario="scenario s on floor { elements line max elements 3 }\n",
+            row="row line of box { count 4..6 spacing 10 }\n",
+        ),
+        "3:37",
+        "scenario 's' holds at most 3 elements ('max elements'), and row 'line' has at least 4 members",
+    ),
+    (
+        "row: in a scenario placed by its grammar",
+        rows(
+            scenario="scenario s on floor { elements line placement grammar sizes 1..4 positions 0..800 }\n"
+        ),
+        "3:37",
+        "row 'line' is placed by placement genes, and scenario 's' places its elements by its grammar's "
+        "numbers (drop 'placement grammar', or the structure)",
+    ),
+    (
+        "step: in a scenario placed by its grammar",
+        spec(
+            element="element box { shape square size 20..40 at step 50 }\n",
+            scenario=placement(sizes="1..4", positions="0..800"),
+        ),
+        "3:36",
+        "element 'box' (at step) is placed by placement genes, and scenario 's' places its elements by "
+        "its grammar's numbers (drop 'placement grammar', or the structure)",
+    ),
+    (
+        "step: not positive",
+        spec(element="element box { shape square size 20..40 at step 0 }\n"),
+        "1:40",
+        "step must be positive, got 0",
+    ),
+    (
+        "step: a unit that cannot be converted",
+        spec(element="element box { shape square size 20..40 at step 5 cm }\n", arena=PX_ARENA),
+        "1:40",
+        "step 5 cm cannot be converted into px, the unit of arena 'floor': px has no size in metres "
+        "(write it in px, or without a unit)",
+    ),
+    (
+        "step: more positions than a gene chooses from",
+        spec(element="element box { shape square size 20..40 at step 0.001 }\n"),
+        "1:40",
+        "step 0.001 cm gives 1000001 positions from 0 to 1000 cm across arena 'floor'; at most 65536, "
+        "the values of a placement gene (give a larger step)",
+    ),
+    (
+        "step: no position within the zones that hold it",
+        spec(
+            element="element box { shape square size 20..40 at step 50 }\n",
+            arena=ARENA.replace(
+                "robot radius 20", "robot radius 20 zone racks rect (110, 110) (140, 140) holds box"
+            ),
+        ),
+        "1:40",
+        "element 'box' can never stand on its step 50 cm: no multiple of it lies between 110 and 140 "
+        "cm, across the zones that hold it ('racks')",
+    ),
+    (
+        "step: too large",
+        spec(element="element box { shape square size 20..40 at step 2000000 }\n"),
+        "1:40",
+        "step must be at most 1000000, got 2000000",
+    ),
+    (
+        "wall: a free rotation",
+        spec(element="element box { shape square size 20..40 rotation any against wall }\n"),
+        "1:40",
+        "against a wall, a rotation says which wall the back turns to: give multiples of 90 (0 bottom, "
+        "90 right, 180 top, 270 left), not any",
+    ),
+    (
+        "wall: a rotation that names no wall",
+        spec(element="element box { shape square size 20..40 rotation 0, 45 against wall }\n"),
+        "1:40",
+        "against a wall, a rotation says which wall the back turns to: give multiples of 90 (0 bottom, "
+        "90 right, 180 top, 270 left), not 45",
+    ),
+    (
+        "wall: zones that reach no wall",
+        spec(
+            element="element box { shape square size 20..40 against wall }\n",
+            arena=ARENA.replace(
+                "robot radius 20", "robot radius 20 zone racks rect (100, 100) (400, 400) holds box"
+            ),
+        ),
+        "1:40",
+        "element 'box' stands against a wall (rotation 0, 90, 180, 270), and the zones that hold it "
+        "('racks') reach none of those walls",
+    ),
+    (
+        "size step: not positive",
+        spec(element="element box { shape square size 20..40 step 0 }\n"),
+        "1:33",
+        "size step must be positive, got 0",
+    ),
+    (
+        "step: given twice",
+        spec(element="element box { shape square size 20..40 at step 5 at step 10 }\n"),
+        "1:50",
+        "duplicate 'at step' in element 'box' (first given at ",
+    ),
+    (
+        "row: listed twice",
+        rows(scenario="scenario s on floor { elements line, line }\n"),
+        "3:38",
+        "row 'line' is listed twice",
+    ),
+    (
+        "row: named as an element",
+        rows(row="row box of box { count 2 spacing 5 }\n"),
+        "4:1",
+        "'box' is already declared at ",
+    ),
+    (
+        "zone: names a row",
+        rows(
+            arena=ARENA.replace(
+                "robot radius 20", "robot radius 20 zone racks rect (0, 0) (900, 700) holds line"
+            )
+        ),
+        "2:115",
+        "zone 'racks': 'line' is a row: name its members' type 'box'",
+    ),
+    (
+        "row: a custom rule named as its count",
+        rows(
+            scenario="scenario s on floor { grammar custom { <s> ::= line | <line-count>\n"
+            " <line-count> ::= box } }\n"
+        ),
+        "4:2",
+        "rule <line-count> chooses the count of row 'line', which MazeGen writes: give your rule "
+        "another name",
+    ),
+    (
+        "row: suggested for an unknown name",
+        rows(scenario="scenario s on floor { elements lin }\n"),
+        "3:32",
+        "unknown element 'lin' (did you mean 'line'?)",
+    ),
+    (
+        "row: of elements against a wall, at a rotation that names no wall",
+        rows(
+            element="element box { shape square size 20..40 against wall }\n",
+            row="row line of box { count 2 spacing 5 rotation 45 }\n",
+        ),
+        "4:37",
+        "against a wall, a rotation says which wall the back turns to: give multiples of 90 (0 bottom, "
+        "90 right, 180 top, 270 left), not 45",
+    ),
 ]
 
 
@@ -1171,7 +1447,7 @@ def test_imported_file_may_not_hold_a_scenario(write_spec):
         'import "other.maze"\n' + ARENA.replace("floor", "hall") + "scenario t on hall { elements box }\n"
     )
     with pytest.raises(
-        MazeError, match="an imported file may declare only elements, arenas and a robot"
+        MazeError, match="an imported file may declare only elements, rows, arenas and a robot"
     ) as caught:
         load_spec(path)
     assert caught.value.filename.endswith("other.maze")

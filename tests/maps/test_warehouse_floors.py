@@ -1,6 +1,7 @@
 """The worked warehouse (examples/warehouse.maze), checked as a plant engineer would, with shapely and
 the map's own cells rather than MazeGen's geometry: on 1,000 evolved floors no element overlaps a
-keep-clear zone or stands on the hall's walls, and every task has a path."""
+keep-clear zone or stands on the hall's walls, every run of racks is one line of equal racks equally
+spaced, and every task has a path. Its picture in the README is its run's best floor."""
 
 from __future__ import annotations
 
@@ -11,10 +12,7 @@ import yaml
 from shapely.geometry import Polygon, box
 
 import mazegen
-from mazegen.runtime.documents._scenario import element_documents
-from mazegen.runtime.engine._problem import Problem
-from mazegen.runtime.navigation import reach_of
-from tests.conftest import EXAMPLES
+from tests.conftest import EXAMPLES, ROOT
 
 FLOORS = 1000
 
@@ -39,18 +37,12 @@ def _map_walls(folder) -> shapely.Geometry:
 
 
 @pytest.fixture(scope="module")
-def floors(tmp_path_factory):
-    """The valid floors of the final populations of four short runs of the example, 1,000 of them."""
+def floors():
+    """1,000 evolved floors: the distinct valid floors of the final populations of twelve runs of the
+    example (seeds 1..12), as scenario documents."""
     spec = mazegen.load(EXAMPLES / "warehouse.maze")
-    build = tmp_path_factory.mktemp("warehouse") / "build"
-    mazegen.build(spec, build)
-    problem = Problem.from_build_dir(build)
-    result = mazegen.run(spec, runs=4, population=500, generations=3, catalog=False)
-    found = []
-    for run in result.runs:
-        evaluation = problem.evaluate(run.codons, run.genes)
-        keep = np.flatnonzero(np.isfinite(evaluation.fitness))
-        found += [(evaluation.population, int(i)) for i in keep]
+    result = mazegen.run(spec.with_evolution(best=1000), runs=12, catalog=False)
+    found = [document for run in result.best for document in run]
     assert len(found) >= FLOORS
     return spec, found[:FLOORS]
 
@@ -62,10 +54,56 @@ def test_no_element_is_on_the_walls_or_in_a_clear_zone_and_every_task_has_a_path
     clear = [Polygon(zone.outline) for zone in spec.arena.zones if zone.rule == "clear"]
     for shape in (walls, *clear):
         shapely.prepare(shape)
-    for population, index in found:
-        for element in element_documents(spec, population, index):
+    for document in found:
+        for element in document["elements"]:
             shape = shapely.union_all([Polygon(part) for part in element["parts"]])
             assert hall.covers(shape)
             for area in (walls, *clear):  # touching is fine, overlapping is not
                 assert not area.intersects(shape) or shape.intersection(area).area < 1e-9, element
-        assert bool(reach_of(population).solvable[index])  # every one of the three tasks
+        assert [task["metrics"]["solvable"] for task in document["tasks"]] == [True] * len(spec.arena.tasks)
+
+
+def _runs(elements: list[dict]) -> dict[tuple[str, int], list[dict]]:
+    """The members of each row of a floor, in their order along it."""
+    runs: dict[tuple[str, int], list[dict]] = {}
+    for element in elements:
+        if "row" in element:
+            runs.setdefault((element["row"]["name"], element["row"]["index"]), []).append(element)
+    return {key: sorted(members, key=lambda e: e["row"]["member"]) for key, members in runs.items()}
+
+
+def test_every_run_of_racks_is_a_line_of_equal_racks_equally_spaced(floors):
+    _, found = floors
+    counted = 0
+    for document in found:
+        runs = _runs(document["elements"])
+        assert len(runs) >= 2  # 'at least 2 rackRun'
+        for members in runs.values():
+            assert 2 <= len(members) <= 4
+            first = members[0]
+            assert all(
+                (m["width"], m["depth"], m["rotation"]) == (first["width"], first["depth"], first["rotation"])
+                for m in members
+            )
+            assert first["rotation"] in (0.0, 90.0)  # square to the walls
+            along = np.array([np.cos(np.radians(first["rotation"])), np.sin(np.radians(first["rotation"]))])
+            steps = np.diff([[m["x"], m["y"]] for m in members], axis=0)
+            across = steps @ np.array([-along[1], along[0]])
+            assert np.abs(across).max() < 2e-4  # one line (documents keep 4 decimals)
+            lengths = steps @ along
+            assert np.ptp(lengths) < 3e-4  # equal gaps
+            gap = lengths[0] - first["width"]
+            assert 0.1 - 3e-4 <= gap <= 0.3 + 3e-4  # 'spacing 0.1..0.3'
+            counted += 1
+    assert counted >= 2 * len(found)
+
+
+def test_the_readme_picture_is_the_examples_best_floor(tmp_path):
+    """docs/images/warehouse.svg, which the README shows, is what the example's own run draws."""
+    from mazegen.runtime.reports import render_file
+
+    result = mazegen.run(EXAMPLES / "warehouse.maze", catalog=False)
+    render_file(
+        result.best[0][0], tmp_path / "best.svg", base=mazegen.load(EXAMPLES / "warehouse.maze").arena.base
+    )
+    assert (tmp_path / "best.svg").read_bytes() == (ROOT / "docs" / "images" / "warehouse.svg").read_bytes()

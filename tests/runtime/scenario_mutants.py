@@ -26,6 +26,7 @@ def whole_document() -> dict[str, Any]:
     document.update(
         phenotype="productionLine(router(cobot))", fitness=1.5, terms={"count": 3.0, "overlap": -1.5}
     )
+    document["elements"][0]["row"] = {"name": "lineRow", "index": 0, "member": 0}
     document["origin"] = {
         "seed": 1,
         "run": 1,

@@ -96,8 +96,28 @@ def map_document(base: BaseMap) -> dict[str, Any]:
     }
 
 
-def element_documents(spec: Spec, population: Population, index: int) -> list[dict[str, Any]]:
-    """The elements of individual ``index`` as JSON-ready dicts."""
+def row_fields(spec: Spec, population: Population, index: int) -> list[dict[str, Any] | None]:
+    """The ``row`` of each element of individual ``index``: the row it is a member of (by name), that
+    row's number among the floor's rows (from 0, in element order) and its place in the row (from 0);
+    None for an element placed alone."""
+    count = int(population.n_elements[index])
+    if population.membership is None:
+        return [None] * count
+    fields: list[dict[str, Any] | None] = []
+    rows = -1
+    for row, member, _ in population.membership[index, :count].tolist():
+        rows += row >= 0 and member == 0
+        fields.append(
+            None if row < 0 else {"name": spec.scenario.rows[row].name, "index": rows, "member": member}
+        )
+    return fields
+
+
+def element_documents(
+    spec: Spec, population: Population, index: int, rows: list[dict[str, Any] | None] | None = None
+) -> list[dict[str, Any]]:
+    """The elements of individual ``index`` as JSON-ready dicts; ``rows``: each element's ``row``
+    (default: the population's, :func:`row_fields`)."""
     types = spec.scenario_elements
     count = int(population.n_elements[index])
     ids, params = population.element_ids[index, :count], population.params[index, :count]
@@ -105,8 +125,9 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
     # One rounding and one conversion for every vertex of the scenario.
     world = np.round(world_vertices(table, ids, params), DIGITS).tolist()
     n_parts, n_vertices = table.n_parts.tolist(), table.n_vertices.tolist()
+    rows = row_fields(spec, population, index) if rows is None else rows
     out = []
-    for e, p, parts in zip(ids.tolist(), params.tolist(), world):
+    for e, p, parts, row in zip(ids.tolist(), params.tolist(), world, rows):
         kind = types[e]
         item: dict[str, Any] = {
             "type": kind.name,
@@ -122,6 +143,8 @@ def element_documents(spec: Spec, population: Population, index: int) -> list[di
             item["size"] = _round(p[SX])
         else:
             item["width"], item["depth"] = _round(p[SX]), _round(p[SY])
+        if row is not None:
+            item["row"] = row
         item["parts"] = [parts[k][: n_vertices[e][k]] for k in range(n_parts[e])]
         out.append(item)
     return out
@@ -334,7 +357,8 @@ def _place_elements(
 def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> dict[str, Any]:
     """A document with the spec's arena, every element's parts, the metrics and the path recomputed.
 
-    For hand-written floors, which give only each element's type and placement.
+    For hand-written floors, which give only each element's type and placement (and the ``row`` of a
+    row's members, which is kept).
     """
     population = population_from_document(
         spec, ElementTable.from_types(spec.scenario_elements), document, filename
@@ -350,7 +374,9 @@ def completed_document(spec: Spec, document: dict[str, Any], filename: str) -> d
         "origin": {},
         **{key: value for key, value in document.items() if key != "tasks"},
         "arena": arena_document(spec),
-        "elements": element_documents(spec, population, 0),
+        "elements": element_documents(
+            spec, population, 0, [item.get("row") for item in document["elements"]]
+        ),
         "metrics": _metrics(population, 0),
         "path": robot_path(population, 0),
         **task_sections(population, 0),

@@ -221,6 +221,7 @@ DOCUMENT = Fields(
                     "size": LENGTH,
                     "width": LENGTH,
                     "depth": LENGTH,
+                    "row": Fields({"name": Text(), "index": COUNT, "member": COUNT}),
                     "parts": Items(Items(POINT, least=3, most=MAX_VERTICES), least=1, most=MAX_PARTS),
                 }
             ),

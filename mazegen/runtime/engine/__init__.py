@@ -24,17 +24,8 @@ if TYPE_CHECKING:
     )
     from mazegen.runtime.engine._mapping import PopulationMap, map_genome, map_population, phenotype
     from mazegen.runtime.engine._operators import random_codons, random_genes, ranking
-    from mazegen.runtime.engine._population import (
-        PLACEMENT_GENES,
-        SX,
-        SY,
-        THETA,
-        Population,
-        Ranges,
-        X,
-        Y,
-        decode,
-    )
+    from mazegen.runtime.engine._placement import PLACEMENT_GENES, SX, SY, THETA, Ranges, X, Y
+    from mazegen.runtime.engine._population import Population, decode
     from mazegen.runtime.engine._problem import (
         REJECTED,
         Evaluation,
@@ -103,7 +94,8 @@ __getattr__ = lazy_names(
         ],
         "_mapping": ["map_genome", "map_population", "phenotype", "PopulationMap"],
         "_operators": ["random_codons", "random_genes", "ranking"],
-        "_population": ["decode", "PLACEMENT_GENES", "Population", "Ranges", "SX", "SY", "THETA", "X", "Y"],
+        "_placement": ["PLACEMENT_GENES", "Ranges", "SX", "SY", "THETA", "X", "Y"],
+        "_population": ["decode", "Population"],
         "_problem": [
             "compiled_bnf",
             "Evaluation",

@@ -18,7 +18,7 @@ from numba import njit
 
 import mazegen.runtime.engine._operators as ops
 import mazegen.runtime.engine._used_operators as uo
-from mazegen.runtime.engine._population import PLACEMENT_GENES
+from mazegen.runtime.engine._placement import PLACEMENT_GENES
 from mazegen.runtime.engine._used_operators import Usage
 from mazegen.spec import Evolution
 

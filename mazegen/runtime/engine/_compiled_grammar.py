@@ -1,6 +1,6 @@
 """A grammar flattened into arrays for the mapping kernel of :mod:`mazegen.runtime.engine._mapping`.
 
-Rules, alternatives and symbols become index tables; element names become a trie
+Rules, alternatives and symbols become index tables; element and row names become a trie
 over ASCII codes; terminals are tokenised once here, where they can be, so the
 kernel emits their elements without reading their characters. The tokeniser's
 character classes and states are shared with the kernel, which reads the
@@ -46,6 +46,10 @@ class CompiledGrammar:
     ``term_end_mode[t]``, ``term_end_node[t]``; ``term_fast[t]`` marks them.
     ``choice[r, c]`` is ``c % alternatives`` of rule ``r`` for codons ``c`` below
     256, a table lookup instead of an integer division per derivation step.
+
+    Rows follow the elements in the trie: a name ending at a node with ``trie_element`` of
+    ``len(element_names) + r`` is row ``r``, whose members are of element ``row_member[r]``, at least
+    ``row_count[r, 0]`` and at most ``row_count[r, 1]`` of them.
     """
 
     element_names: tuple[str, ...]
@@ -65,22 +69,33 @@ class CompiledGrammar:
     term_end_mode: np.ndarray
     term_end_node: np.ndarray
     choice: np.ndarray
+    row_member: np.ndarray
+    row_count: np.ndarray
 
 
-def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledGrammar:
+RowToken = tuple[str, int, int, int]
+"""A row as the mapping reads it: its name, its members' element id, its fewest and most members
+(:attr:`mazegen.spec.Spec.row_tokens`)."""
+
+
+def compile_grammar(
+    grammar: Grammar, element_names: Sequence[str], rows: Sequence[RowToken] = ()
+) -> CompiledGrammar:
     """Flatten a grammar into the arrays :func:`map_population` works on.
 
     Args:
         grammar: The grammar.
         element_names: Element names recognised in terminals; id = index.
+        rows: The rows whose names the phenotype may hold, each followed by its member count.
 
     Returns:
         The compiled grammar.
 
     Raises:
-        ValueError: If an element name is not an ASCII identifier or repeats.
+        ValueError: If an element or row name is not an ASCII identifier or repeats.
     """
-    if len(set(element_names)) != len(element_names):
+    names = [*element_names, *(row[0] for row in rows)]
+    if len(set(names)) != len(names):
         raise ValueError("element names repeat")
     rule_ids = {name: i for i, name in enumerate(grammar.rules)}
     terminals: dict[str, int] = {}
@@ -101,7 +116,7 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
         term_chars.append(len(chars))
     trie = [[-1] * 128]
     trie_element = [-1]
-    for element, name in enumerate(element_names):
+    for element, name in enumerate(names):
         if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
             raise ValueError(f"element name {name!r} is not an identifier")
         node = 0
@@ -140,6 +155,8 @@ def compile_grammar(grammar: Grammar, element_names: Sequence[str]) -> CompiledG
         term_end_mode=np.array(end_modes, i32),
         term_end_node=np.array(end_nodes, i32),
         choice=np.arange(CHOICE_CODONS)[None, :] % np.diff(rule_alts)[:, None].astype(i32),
+        row_member=np.array([row[1] for row in rows], i32),
+        row_count=np.array([row[2:] for row in rows], i32).reshape(len(rows), 2),
     )
 
 

@@ -26,7 +26,8 @@ still processed, then mapping stops, and it is valid only if nothing is left
 
 :func:`map_genome` is the readable reference; :func:`map_population` maps a whole
 population with a numba kernel that gives the same results and extracts the
-scenario elements (see :func:`extract_elements`) on the fly.
+scenario elements (see :func:`extract_elements`) on the fly, a row's name and the
+number after it becoming that many members of the row's element type.
 """
 
 from __future__ import annotations
@@ -53,12 +54,18 @@ from mazegen.runtime.engine._compiled_grammar import (
     POINT,
     SIGN,
     CompiledGrammar,
+    RowToken,
 )
 from mazegen.runtime.threads import in_blocks
 
 NUMBERS_PER_ELEMENT = 4
 NO_ELEMENT = np.iinfo(np.int32).max
 """``element_codons`` of a slot without an element: beyond every cut."""
+ALONE = (-1, 0, 1)
+"""``membership`` of an element placed alone (and of a slot without an element): a row of one."""
+NO_ROW, BROKEN = -1, -2
+"""While mapping: no row awaits its member count; a row's name was not followed by a count within its
+bounds (the individual is invalid). A row awaiting its count is its index, from 0."""
 _TOKEN = re.compile(r"(?P<name>[A-Za-z_][A-Za-z0-9_]*)|(?P<number>-?[0-9]+(?:\.[0-9]+)?)")
 
 
@@ -91,8 +98,12 @@ class PopulationMap:
             element in the phenotype (the first four), NaN padded; ``[N, 0, 4]``
             when the numbers were not asked for.
         element_codons: ``int32[N, max_elements]``: codons read when each element's
-            name was completed, :data:`NO_ELEMENT` padded (all of an invalid individual's
-            slots): the genome prefix an element comes from, which crossover keeps whole.
+            name was completed (a row's members: its count), :data:`NO_ELEMENT` padded (all of
+            an invalid individual's slots): the genome prefix an element comes from, which
+            crossover keeps whole.
+        membership: ``int32[N, max_elements, 3]``: the row each element is a member of (an index
+            of the grammar's rows), its place in the row and the row's member count, or
+            :data:`ALONE`; ``[N, 0, 3]`` for a grammar without rows.
     """
 
     valid: np.ndarray
@@ -101,6 +112,7 @@ class PopulationMap:
     element_ids: np.ndarray
     numbers: np.ndarray
     element_codons: np.ndarray
+    membership: np.ndarray
 
 
 def _check_options(wraps: int, consume: str, max_depth: int) -> None:
@@ -172,29 +184,51 @@ def phenotype(grammar: Grammar, genome: Sequence[int], **options: object) -> str
     return map_genome(grammar, genome, **options).phenotype  # type: ignore[arg-type]
 
 
-def extract_elements(text: str, element_names: Sequence[str]) -> list[tuple[int, tuple[float, ...]]]:
+def extract_elements(
+    text: str, element_names: Sequence[str], rows: Sequence[RowToken] = ()
+) -> list[tuple[int, tuple[float, ...], tuple[int, int, int]]] | None:
     """Tokenise a phenotype into elements and their numbers (reference for the kernel).
 
     Identifiers ``[A-Za-z_][A-Za-z0-9_]*`` equal to an element name are elements;
     numbers ``-?[0-9]+(.[0-9]+)?`` outside identifiers attach, in order and at
-    most four, to the latest element; everything else is ignored.
+    most four, to the latest element; everything else is ignored. A row's name
+    stands for as many members of its element type as the number after it says.
 
     Args:
         text: A phenotype.
         element_names: The element names; an element's id is its index.
+        rows: The rows (:data:`~mazegen.runtime.engine._compiled_grammar.RowToken`).
 
     Returns:
-        ``(element_id, numbers)`` for every element, in order.
+        ``(element_id, numbers, membership)`` for every element, in order, membership as
+        :attr:`PopulationMap.membership`; ``None`` when a row's name is not followed by a
+        whole number of members within its bounds before the next name or the end.
     """
     ids = {name: i for i, name in enumerate(element_names)}
-    found: list[tuple[int, list[float]]] = []
+    row_ids = {row[0]: r for r, row in enumerate(rows)}
+    found: list[tuple[int, list[float], tuple[int, int, int]]] = []
+    pending = None
     for token in _TOKEN.finditer(text):
-        if token.lastgroup == "name":
-            if token.group() in ids:
-                found.append((ids[token.group()], []))
-        elif found and len(found[-1][1]) < NUMBERS_PER_ELEMENT:
-            found[-1][1].append(float(token.group()))
-    return [(element, tuple(numbers)) for element, numbers in found]
+        word = token.group()
+        if token.lastgroup == "name" and (word in ids or word in row_ids):
+            if pending is not None:
+                return None
+            if word in row_ids:
+                pending = row_ids[word]
+            else:
+                found.append((ids[word], [], ALONE))
+        elif token.lastgroup == "number" and pending is not None:
+            _, member, fewest, most = rows[pending]
+            count = float(word)
+            if not (count.is_integer() and fewest <= count <= most):
+                return None
+            found += [(member, [], (pending, m, int(count))) for m in range(int(count))]
+            pending = None
+        elif token.lastgroup == "number" and found and len(found[-1][1]) < NUMBERS_PER_ELEMENT:
+            found[-1][1].append(float(word))
+    if pending is not None:
+        return None
+    return [(element, tuple(numbers), membership) for element, numbers, membership in found]
 
 
 def map_population(
@@ -211,9 +245,10 @@ def map_population(
     """Map every row of ``codons`` and extract its elements, in parallel.
 
     Validity and ``used_codons`` equal :func:`map_genome` with the same options
-    (also when the element limit makes an individual invalid); the elements and
-    numbers equal :func:`extract_elements` of the reference phenotype, tokens
-    spanning several terminals included (numbers are exact up to 15 digits).
+    (also when the element limit makes an individual invalid, or a row its count);
+    the elements, numbers and row membership equal :func:`extract_elements` of the
+    reference phenotype, tokens spanning several terminals included (numbers are
+    exact up to 15 digits).
 
     Args:
         compiled: The grammar from :func:`~mazegen.runtime.engine._compiled_grammar.compile_grammar`.
@@ -242,6 +277,7 @@ def map_population(
         ((n, max_elements), np.int32),
         ((n, max_elements if numbers else 0, NUMBERS_PER_ELEMENT), np.float64),
         ((n, max_elements), np.int32),
+        ((n, max_elements if compiled.row_member.size else 0, 3), np.int32),
     ]
     result = out or PopulationMap(*(np.empty(shape, dtype) for shape, dtype in layout))
     arrays = (
@@ -251,6 +287,7 @@ def map_population(
         result.element_ids,
         result.numbers,
         result.element_codons,
+        result.membership,
     )
     if any(
         a.shape != shape or a.dtype != dtype or not a.flags.c_contiguous
@@ -275,6 +312,7 @@ def map_population(
         c.emits,
         c.term_end_mode,
         c.term_end_node,
+        (len(c.element_names), c.row_member, c.row_count),
     )
     options = (
         (max_depth + 3) * c.max_alt_len + 1,
@@ -307,14 +345,14 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
     """
     start, rule_alts, alt_symbols, alt_nts, symbols, choice = grammar[:6]
     term_chars, chars, trie, trie_element, classes = grammar[6:11]
-    term_fast, term_emits, emits, term_end_mode, term_end_node = grammar[11:]
+    term_fast, term_emits, emits, term_end_mode, term_end_node, rows = grammar[11:]
     lazy, pony, limit, max_depth = options[1], options[2], options[3], options[4]
     element_ids, numbers = out[3], out[4]
     n, slots = codons.shape[1], element_ids.shape[1]
     stack[0], depths[0] = start, 1
     sp, used, pos, deepest, pending = 1, 0, 0, 1, 1
     cur, cur_end, cur_depth, stuck = 0, 0, 0, False
-    mode, node, sign, mant, scale, count, n_num = IDLE, 0, 1.0, 0.0, 1.0, 0, 0
+    mode, node, sign, mant, scale, count, n_num, row = IDLE, 0, 1.0, 0.0, 1.0, 0, 0, NO_ROW
     while (cur < cur_end or sp > 0) and deepest <= max_depth:
         wrapped = pony and used > 0 and pos == 0 and pending > 0
         if cur < cur_end:
@@ -326,7 +364,7 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
         deepest = max(deepest, depth)
         if symbol < 0 and mode == IDLE and term_fast[-1 - symbol]:
             for q in range(term_emits[-1 - symbol], term_emits[-symbol]):
-                count, n_num = _emit(emits[q], out, i, count, used)
+                count, n_num, row = _emit(emits[q], rows, out, i, count, used, row)
             mode, node = term_end_mode[-1 - symbol], term_end_node[-1 - symbol]
         elif symbol < 0:
             for p in range(term_chars[-1 - symbol], term_chars[-symbol]):
@@ -343,8 +381,8 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
                 if kind == DOT and mode == INT:
                     mode = POINT
                     continue
-                count, n_num = _finish(
-                    mode, node, sign * mant / scale, trie_element, out, i, count, n_num, used
+                count, n_num, row = _finish(
+                    mode, node, sign * mant / scale, trie_element, rows, out, i, count, n_num, used, row
                 )
                 mode, node, sign, mant, scale = IDLE, 0, 1.0, 0.0, 1.0
                 if kind == LETTER:
@@ -376,40 +414,76 @@ def _map_one(codons, i, grammar, options, stack, depths, out):  # pragma: no cov
             break
     ok = sp == 0 and cur == cur_end and not stuck
     if ok:
-        count, n_num = _finish(mode, node, sign * mant / scale, trie_element, out, i, count, n_num, used)
-    if not ok or count > slots:
+        count, n_num, row = _finish(
+            mode, node, sign * mant / scale, trie_element, rows, out, i, count, n_num, used, row
+        )
+    if not ok or count > slots or row != NO_ROW:
         ok, count = False, 0
-    element_codons = out[5]
+    element_codons, membership = out[5], out[6]
     for e in range(count, slots):
         element_ids[i, e] = -1
         element_codons[i, e] = NO_ELEMENT
     for e in range(count, numbers.shape[1]):
         for j in range(NUMBERS_PER_ELEMENT):
             numbers[i, e, j] = np.nan
+    for e in range(count, membership.shape[1]):
+        membership[i, e, 0], membership[i, e, 1], membership[i, e, 2] = ALONE
     return ok, used, count
 
 
 @njit(cache=True, inline="always")
-def _finish(mode, node, value, trie_element, out, i, count, n_num, used):  # pragma: no cover - compiled
-    """Emit the token that just ended; a ``count`` beyond the slots means overflow."""
+def _finish(
+    mode, node, value, trie_element, rows, out, i, count, n_num, used, row
+):  # pragma: no cover - compiled
+    """Emit the token that just ended; a ``count`` beyond the slots means overflow. ``row``: the row
+    awaiting its count (:data:`NO_ROW`, :data:`BROKEN`)."""
     numbers = out[4]
     if mode == NAME and node >= 0 and trie_element[node] >= 0:
-        return _emit(trie_element[node], out, i, count, used)
+        return _emit(trie_element[node], rows, out, i, count, used, row)
+    if mode >= INT and row >= 0:
+        return _members(row, value, rows, out, i, count, used)
     if mode >= INT and 0 < count <= numbers.shape[1] and n_num < NUMBERS_PER_ELEMENT:
         numbers[i, count - 1, n_num] = value
-        return count, n_num + 1
-    return count, n_num
+        return count, n_num + 1, row
+    return count, n_num, row
 
 
 @njit(cache=True, inline="always")
-def _emit(element, out, i, count, used):  # pragma: no cover - compiled
-    """Record element number ``count`` of genome ``i``, completed after ``used`` codons
-    (slots past the end only count)."""
-    element_ids, numbers = out[3], out[4]  # numbers has 0 slots when not kept
-    if count < element_ids.shape[1]:
-        element_ids[i, count] = element
-        out[5][i, count] = used
-    if count < numbers.shape[1]:
+def _emit(element, rows, out, i, count, used, row):  # pragma: no cover - compiled
+    """Record element number ``count`` of genome ``i``, completed after ``used`` codons (slots past the
+    end only count); a row's name awaits its count, and breaks a row awaiting one."""
+    first_row = rows[0]
+    if row != NO_ROW:
+        return count, 0, BROKEN
+    if element >= first_row:
+        return count, 0, element - first_row
+    _put_slot(element, out, i, count, used, -1, 0, 1)
+    return count + 1, 0, NO_ROW
+
+
+@njit(cache=True, inline="always")
+def _members(row, value, rows, out, i, count, used):  # pragma: no cover - compiled
+    """Record the members of row ``row`` whose count ``value`` just ended, or break it when the count is
+    not a whole number within its bounds."""
+    row_member, row_count = rows[1], rows[2]
+    if not (row_count[row, 0] <= value <= row_count[row, 1]) or value != np.floor(value):
+        return count, 0, BROKEN
+    members = np.int64(value)
+    for m in range(members):
+        _put_slot(row_member[row], out, i, count + m, used, row, m, members)
+    return count + members, 0, NO_ROW
+
+
+@njit(cache=True, inline="always")
+def _put_slot(element, out, i, slot, used, row, member, members):  # pragma: no cover - compiled
+    """Write element ``element`` into slot ``slot`` of genome ``i`` (if there is one), member ``member``
+    of ``members`` of row ``row`` (-1: placed alone)."""
+    element_ids, numbers, membership = out[3], out[4], out[6]  # numbers and membership may have 0 slots
+    if slot < element_ids.shape[1]:
+        element_ids[i, slot] = element
+        out[5][i, slot] = used
+    if slot < numbers.shape[1]:
         for k in range(NUMBERS_PER_ELEMENT):
-            numbers[i, count, k] = np.nan
-    return count + 1, 0
+            numbers[i, slot, k] = np.nan
+    if slot < membership.shape[1]:
+        membership[i, slot, 0], membership[i, slot, 1], membership[i, slot, 2] = row, member, members

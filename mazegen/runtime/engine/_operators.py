@@ -18,7 +18,7 @@ import numpy as np
 from numba import njit
 
 from mazegen.runtime.compiling import inner_kernel
-from mazegen.runtime.engine._population import GENE_MAX, PLACEMENT_GENES
+from mazegen.runtime.engine._placement import GENE_MAX, PLACEMENT_GENES
 
 
 def random_codons(rng: np.random.Generator, count: int, length: int, codon_max: int) -> np.ndarray:

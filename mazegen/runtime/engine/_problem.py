@@ -16,9 +16,10 @@ import numpy as np
 from mazegen.errors import MazeError
 from mazegen.fileio import read_text
 from mazegen.runtime.engine._bnf import Grammar, parse_bnf
-from mazegen.runtime.engine._compiled_grammar import CompiledGrammar, compile_grammar
+from mazegen.runtime.engine._compiled_grammar import CompiledGrammar, RowToken, compile_grammar
 from mazegen.runtime.engine._mapping import NUMBERS_PER_ELEMENT, PopulationMap, map_population
-from mazegen.runtime.engine._population import PLACEMENT_GENES, Population, Ranges, decode
+from mazegen.runtime.engine._placement import PLACEMENT_GENES, Ranges
+from mazegen.runtime.engine._population import Population, decode
 from mazegen.runtime.engine._used_operators import Usage, usage_of
 from mazegen.runtime.geometry import ElementTable
 from mazegen.spec import Spec
@@ -82,10 +83,13 @@ def fitness_module(path: str, text: str) -> ModuleType:
 
 
 @lru_cache(maxsize=16)
-def compiled_bnf(text: str, filename: str, elements: tuple[str, ...]) -> tuple[Grammar, CompiledGrammar]:
-    """The grammar ``text`` (from ``filename``) parsed and compiled for ``elements``, once per process."""
+def compiled_bnf(
+    text: str, filename: str, elements: tuple[str, ...], rows: tuple[RowToken, ...] = ()
+) -> tuple[Grammar, CompiledGrammar]:
+    """The grammar ``text`` (from ``filename``) parsed and compiled for ``elements`` and ``rows``
+    (:attr:`~mazegen.spec.Spec.row_tokens`), once per process."""
     grammar = parse_bnf(text, filename=filename)
-    return grammar, compile_grammar(grammar, list(elements))
+    return grammar, compile_grammar(grammar, list(elements), rows)
 
 
 def load_fitness(path: Path) -> ModuleType:
@@ -129,15 +133,20 @@ class Workspace:
         self._map: PopulationMap | None = None
         self._params = np.empty((0, 0, PLACEMENT_GENES))
 
-    def arrays(self, rows: int, slots: int, numbers: bool) -> tuple[PopulationMap, np.ndarray]:
-        """Mapping and placement arrays for ``rows`` individuals (views of the first rows)."""
+    def arrays(
+        self, rows: int, slots: int, numbers: bool, membership: bool
+    ) -> tuple[PopulationMap, np.ndarray]:
+        """Mapping and placement arrays for ``rows`` individuals (views of the first rows); ``numbers``
+        and ``membership``: with room for the numbers and the row membership of every slot."""
         kept = self._map
         width = slots if numbers else 0
+        members = slots if membership else 0
         if (
             kept is None
             or kept.valid.shape[0] < rows
             or kept.element_ids.shape[1] != slots
             or (kept.numbers.shape[1] != width)
+            or (kept.membership.shape[1] != members)
         ):
             capacity = max(rows, 0 if kept is None else kept.valid.shape[0])
             kept = self._map = PopulationMap(
@@ -147,6 +156,7 @@ class Workspace:
                 np.empty((capacity, slots), np.int32),
                 np.empty((capacity, width, NUMBERS_PER_ELEMENT), np.float64),
                 np.empty((capacity, slots), np.int32),
+                np.empty((capacity, members, 3), np.int32),
             )
             self._params = np.empty((capacity, slots, PLACEMENT_GENES))
         view = PopulationMap(*(array[:rows] for array in vars(kept).values()))
@@ -173,9 +183,8 @@ class Problem:
         grammar_path, fitness_path = build_dir / "grammar.bnf", build_dir / "fitness.py"
         grammar = read_text(grammar_path, "grammar")
         module = fitness_module(str(fitness_path), read_text(fitness_path, "fitness module"))
-        return cls.assemble(
-            spec, compiled_bnf(grammar, str(grammar_path), tuple(spec.scenario.elements)), module, build_dir
-        )
+        compiled = compiled_bnf(grammar, str(grammar_path), spec.scenario.elements, spec.row_tokens)
+        return cls.assemble(spec, compiled, module, build_dir)
 
     @classmethod
     def assemble(
@@ -212,8 +221,11 @@ class Problem:
         """Map structure codons and decode placements (into ``workspace`` when given); ``searching``:
         for a search (see :attr:`Population.searching`)."""
         numbers = self.reads_numbers
+        membership = bool(self.spec.scenario.rows)
         out, params = (
-            (None, None) if workspace is None else workspace.arrays(codons.shape[0], self.slots, numbers)
+            (None, None)
+            if workspace is None
+            else workspace.arrays(codons.shape[0], self.slots, numbers, membership)
         )
         mapped = self.map(codons, numbers=numbers, out=out)
         return mapped, decode(mapped, genes, self.ranges, self.table, self.spec, params, searching=searching)

@@ -31,7 +31,7 @@ from numba.np.random.random_methods import buffered_bounded_lemire_uint32 as lem
 
 from mazegen.runtime.engine._mapping import PopulationMap
 from mazegen.runtime.engine._operators import MutationDraws, codon_type, copy_span, draw_mutation, gap_scale
-from mazegen.runtime.engine._population import PLACEMENT_GENES
+from mazegen.runtime.engine._placement import PLACEMENT_GENES
 
 
 @dataclass(frozen=True)

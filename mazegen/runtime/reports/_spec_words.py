@@ -95,7 +95,7 @@ def scenario_words(scenario: Scenario) -> list[str]:
     if grammar == "custom":
         grammar = f"custom {{ ... }}  // {len(scenario.custom_rules)} rules, see experiment/grammar.bnf"
     words = [
-        f"elements {', '.join(scenario.elements)}",
+        f"elements {', '.join(scenario.entries)}",
         f"grammar {grammar}",
         f"max elements {scenario.max_elements}",
     ]

@@ -139,7 +139,7 @@ def run_rng(seed: int, run: int) -> np.random.Generator:
 
 def problem_of(build: BuildFiles) -> Problem:
     """The problem of a build; its grammar and fitness module are loaded once per process and text."""
-    grammar = compiled_bnf(build.grammar, "grammar.bnf", tuple(build.spec.scenario.elements))
+    grammar = compiled_bnf(build.grammar, "grammar.bnf", build.spec.scenario.elements, build.spec.row_tokens)
     module = _fitness_module(build.fitness)
     return Problem.assemble(build.spec, grammar, module, Path(module.__file__ or ".").parent)
 

@@ -12,6 +12,7 @@ import pytest
 from mazegen.runtime.engine._bnf import Grammar, Symbol, parse_bnf, read_bnf
 from mazegen.runtime.engine._compiled_grammar import compile_grammar
 from mazegen.runtime.engine._mapping import (
+    ALONE,
     MapResult,
     extract_elements,
     map_genome,
@@ -28,7 +29,10 @@ CASES = {
     "placed": (read_bnf(GRAMMARS / "placed.bnf"), ("cobot", "wall", "box2", "angle")),
     "tricky": (read_bnf(GRAMMARS / "tricky.bnf"), ("cobot", "wall", "cobot2", "x1", "b")),
     "deep": (read_bnf(GRAMMARS / "deep.bnf"), ("x",)),
+    "rows": (read_bnf(GRAMMARS / "rows.bnf"), ("box", "slab")),
 }
+ROWS = {"rows": (("line", 1, 2, 4), ("pair", 0, 2, 2))}
+"""The rows of a case's grammar (RowToken: name, members' element id, fewest, most)."""
 TWO_T = parse_bnf("<e> ::= <t><t>\n<t> ::= x | y")
 
 
@@ -197,10 +201,32 @@ def test_other_modes_equal_textbook(name: str, consume: str, wraps: int) -> None
 def test_extract_elements() -> None:
     text = "3 cobot(1, -2.5, 3, 4, 5) wall 7 x1 ; 8 walls wall(-0.25) cobot2 4. 1.2.3 --6"
     assert extract_elements(text, ("cobot", "wall")) == [
-        (0, (1.0, -2.5, 3.0, 4.0)),
-        (1, (7.0, 8.0)),
-        (1, (-0.25, 4.0, 1.2, 3.0)),
+        (0, (1.0, -2.5, 3.0, 4.0), ALONE),
+        (1, (7.0, 8.0), ALONE),
+        (1, (-0.25, 4.0, 1.2, 3.0), ALONE),
     ]
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("box line(3) 5 box", [(0, ()), (1, (), 0, 0, 3), (1, (), 0, 1, 3), (1, (5.0,), 0, 2, 3), (0, ())]),
+        ("pair(2),line 2.0", [(0, (), 1, 0, 2), (0, (), 1, 1, 2), (1, (), 0, 0, 2), (1, (), 0, 1, 2)]),
+        ("lines 3 box", [(0, ())]),  # not a row's name: its number goes to no element
+        ("line", None),  # no count
+        ("line box 3", None),  # a name before the count
+        ("line(5)", None),  # more than the most
+        ("line(1)", None),  # fewer than the fewest
+        ("line(2.5)", None),  # not whole
+        ("line(-3)", None),
+    ],
+)
+def test_extract_rows(text: str, expected: list | None) -> None:
+    found = extract_elements(text, ("box", "slab"), ROWS["rows"])
+    if expected is None:
+        assert found is None
+        return
+    assert found == [(e, numbers, tuple(membership) or ALONE) for e, numbers, *membership in expected]
 
 
 @pytest.mark.parametrize(
@@ -241,28 +267,36 @@ def test_kernel_elements(
 
 
 def _check_kernel(
-    grammar: Grammar, elements: tuple[str, ...], codons: np.ndarray, max_elements: int = 4, **options: object
+    grammar: Grammar,
+    elements: tuple[str, ...],
+    codons: np.ndarray,
+    max_elements: int = 4,
+    rows: tuple = (),
+    **options: object,
 ) -> None:
     """Assert the kernel agrees with the reference mapper and tokeniser on every row."""
-    result = map_population(compile_grammar(grammar, elements), codons, max_elements=max_elements, **options)
+    compiled = compile_grammar(grammar, elements, rows)
+    result = map_population(compiled, codons, max_elements=max_elements, **options)
+    assert result.membership.shape == (codons.shape[0], max_elements if rows else 0, 3)
     for i, genome in enumerate(codons.tolist()):
         reference = map_genome(grammar, genome, **options)  # type: ignore[arg-type]
-        found = extract_elements(reference.phenotype, elements) if reference.valid else []
-        valid = reference.valid and len(found) <= max_elements
+        found = extract_elements(reference.phenotype, elements, rows) if reference.valid else []
+        valid = reference.valid and found is not None and len(found) <= max_elements
         assert (result.valid[i], result.used_codons[i]) == (valid, reference.used_codons), (genome, options)
         found = found if valid else []
         assert result.n_elements[i] == len(found)
-        ids = [element for element, _ in found] + [-1] * (max_elements - len(found))
+        ids = [element for element, _, _ in found] + [-1] * (max_elements - len(found))
         assert list(result.element_ids[i]) == ids, (genome, options, reference.phenotype)
         numbers = np.full((max_elements, 4), np.nan)
-        for e, (_, values) in enumerate(found):
+        for e, (_, values, _) in enumerate(found):
             numbers[e, : len(values)] = values
         assert np.array_equal(result.numbers[i], numbers, equal_nan=True), (genome, reference.phenotype)
-    without = map_population(
-        compile_grammar(grammar, elements), codons, max_elements=max_elements, numbers=False, **options
-    )
+        if rows:
+            membership = [m for _, _, m in found] + [ALONE] * (max_elements - len(found))
+            assert [tuple(m) for m in result.membership[i].tolist()] == membership, reference.phenotype
+    without = map_population(compiled, codons, max_elements=max_elements, numbers=False, **options)
     assert without.numbers.shape == (codons.shape[0], 0, 4)
-    for name in ("valid", "used_codons", "n_elements", "element_ids"):
+    for name in ("valid", "used_codons", "n_elements", "element_ids", "membership"):
         assert np.array_equal(getattr(without, name), getattr(result, name)), name
 
 
@@ -274,7 +308,14 @@ def test_kernel_equals_reference(name: str, consume: str, wraps: int) -> None:
     for length, max_depth, max_elements in [(1, 90, 3), (3, 90, 4), (8, 5, 2), (16, 90, 4), (32, 8, 2)]:
         codons = rng.integers(0, 256, (300, length))
         _check_kernel(
-            grammar, elements, codons, max_elements, consume=consume, wraps=wraps, max_depth=max_depth
+            grammar,
+            elements,
+            codons,
+            max_elements,
+            ROWS.get(name, ()),
+            consume=consume,
+            wraps=wraps,
+            max_depth=max_depth,
         )
 
 
@@ -325,3 +366,16 @@ NO_ELEMENTS = compile_grammar(PAPER, ())
 def test_bad_arguments(call, message: str) -> None:
     with pytest.raises(ValueError, match=message):
         call()
+
+
+def test_a_rows_members_take_a_slot_each_and_the_codons_of_its_count() -> None:
+    grammar = parse_bnf("<s> ::= <e> | <e> <s>\n<e> ::= box | line(<n>)\n<n> ::= 2 | 3")
+    compiled = compile_grammar(grammar, ("box", "slab"), (("line", 1, 2, 3),))
+    genome = np.array([[1, 1, 1, 0, 0]])  # <e> <s>, line(<n>), 3, <e>, box
+    result = map_population(compiled, genome, max_elements=4)
+    assert map_genome(grammar, genome[0].tolist()).phenotype == "line(3) box"
+    assert result.valid[0] and result.n_elements[0] == 4
+    assert list(result.element_ids[0]) == [1, 1, 1, 0]
+    assert list(result.element_codons[0]) == [3, 3, 3, 5]  # crossover keeps a row whole
+    assert result.membership[0].tolist() == [[0, 0, 3], [0, 1, 3], [0, 2, 3], list(ALONE)]
+    assert not map_population(compiled, genome, max_elements=3).valid[0]  # max elements counts members

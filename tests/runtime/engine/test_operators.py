@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from mazegen.runtime.engine import _operators as ops
-from mazegen.runtime.engine._population import GENE_MAX
+from mazegen.runtime.engine._placement import GENE_MAX
 
 
 def rng(seed: int = 0) -> np.random.Generator:

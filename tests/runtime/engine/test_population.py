@@ -8,7 +8,7 @@ import pytest
 import mazegen
 from mazegen.generator.build import build
 from mazegen.runtime import metrics
-from mazegen.runtime.engine._population import GENE_MAX, SX, SY, THETA, X, Y
+from mazegen.runtime.engine._placement import GENE_MAX, SX, SY, THETA, X, Y
 from mazegen.runtime.engine._problem import Problem
 from tests.conftest import EXAMPLES
 
@@ -85,7 +85,7 @@ def reference_params(mapped, genes, ranges, grammar_scale):
 
 @pytest.mark.parametrize("example", ["factory.maze", "mazegen1.maze", "table1/exp1.maze", "warehouse.maze"])
 def test_placement_kernel_equals_numpy_reference(example, tmp_path):
-    from mazegen.runtime.engine._population import placement_params
+    from mazegen.runtime.engine._placement import placement_params
 
     problem = problem_of(EXAMPLES / example, tmp_path)
     rng = np.random.default_rng(11)
@@ -96,9 +96,9 @@ def test_placement_kernel_equals_numpy_reference(example, tmp_path):
     placement = problem.spec.scenario.placement
     scale = None if placement is None else placement.scale
     expected = reference_params(mapped, genes, problem.ranges, scale)
-    assert np.array_equal(placement_params(mapped, genes, problem.ranges, scale), expected)
+    assert np.array_equal(placement_params(mapped, genes, problem.ranges, problem.table, scale), expected)
     stale = np.full_like(expected, 7.0)  # a reused array: every slot is overwritten, padding zeroed
-    placement_params(mapped, genes, problem.ranges, scale, stale)
+    placement_params(mapped, genes, problem.ranges, problem.table, scale, stale)
     assert np.array_equal(stale, expected)
 
 

@@ -13,7 +13,7 @@ from mazegen.runtime.engine import _used_operators as uo
 from mazegen.runtime.engine._breeding import breed
 from mazegen.runtime.engine._evolution import evolve
 from mazegen.runtime.engine._mapping import NO_ELEMENT
-from mazegen.runtime.engine._population import GENE_MAX
+from mazegen.runtime.engine._placement import GENE_MAX
 from mazegen.spec import CROSSOVER_OPERATORS, MUTATION_OPERATORS, Evolution
 
 LENGTH, SLOTS = 12, 4
