@@ -263,6 +263,15 @@ def _placement_kernel(
         _place_structure(first, last, ids, n_elements, genes, sizes, turns, area, structure, out)
 
 
+@njit(cache=True, inline="always")
+def _leaving_room(low, high, span):  # pragma: no cover - compiled
+    """The range of a row's first member's coordinate, ``[low, high]`` cut by the row's ``span`` along it
+    (its last member's offset from its first), so that the last stays within ``[low, high]`` too; the
+    whole range when the row is longer than it."""
+    first, last = low - min(span, 0.0), high - max(span, 0.0)
+    return (first, last) if first <= last else (low, high)
+
+
 @inner_kernel
 def _place_structure(
     first, last, ids, n_elements, genes, sizes, turns, area, structure, out
@@ -293,20 +302,24 @@ def _place_structure(
                 row[2], row[3], row[4] = lead[2], lead[3], lead[4]
                 continue
             g = genes[i, k]
-            row[0] = _drawn(g[0], area[e, 0], area[e, 2], ladders, e, 0)
-            row[1] = _drawn(g[1], area[e, 1], area[e, 3], ladders, e, 1)
             row[2] = _drawn(g[2], size[e, 0], size[e, 1], ladders, e, 2)
             row[3] = row[2] if uniform[e] else _drawn(g[3], depth[e, 0], depth[e, 1], ladders, e, 3)
-            if line >= 0:  # a row turns as the row
+            x_low, y_low, x_high, y_high = area[e, 0], area[e, 1], area[e, 2], area[e, 3]
+            if line >= 0:  # a row turns as the row; the gap from the x gene of the row's second slot
                 turn = uniform.shape[0] + line
                 row[4] = np.radians(_turned(g[4], turn, rot_lo, rot_hi, rot_free, rotations, n_rotations))
-            if against[e]:
-                _against_wall(shapes, e, row, walls, scratch)
-            if line >= 0:  # the gap from the x gene of the row's second slot
                 gap = _drawn(genes[i, k + 1, 0], gaps[line, 0], gaps[line, 1], gap_ladders, line, 0)
                 low, high = _extent(shapes, e, row[2], row[3], 0)
                 cos, sin = _direction(np.degrees(row[4]))
                 dx, dy = (high - low + gap) * cos, (high - low + gap) * sin
+                # The first member where the last one stays in the area too, when the row fits in it.
+                last = membership[i, k, 2] - 1
+                x_low, x_high = _leaving_room(x_low, x_high, last * dx)
+                y_low, y_high = _leaving_room(y_low, y_high, last * dy)
+            row[0] = _drawn(g[0], x_low, x_high, ladders, e, 0)
+            row[1] = _drawn(g[1], y_low, y_high, ladders, e, 1)
+            if against[e]:
+                _against_wall(shapes, e, row, walls, scratch)
 
 
 def placement_params(

@@ -69,21 +69,36 @@ def turned(gene: int, rotations: tuple[float, ...], span: tuple[float, float] | 
     return span[0] + (span[1] - span[0]) * gene / GENE_MAX if span else rotations[gene % len(rotations)]
 
 
-def reference_row(spec: Spec, kind: ElementType, genes: np.ndarray, slot: int, rotation) -> list[float]:
-    """x, y, sx, sy and rotation (radians) of an element alone, or of a row's first member, from the
-    genes of ``slot``; ``rotation``: the rotations it turns by."""
+def reference_row(
+    spec: Spec, kind: ElementType, genes: np.ndarray, slot: int, rotation, row=None, count: int = 1
+) -> tuple[list[float], np.ndarray]:
+    """x, y, sx, sy and rotation (radians) of an element alone, or of the first of a row's ``count``
+    members (``row`` its Row), from the genes of ``slot``; ``rotation``: the rotations it turns by.
+    Also the pitch from one member to the next (zero alone)."""
     g = [int(v) for v in genes[slot]]
     width, height = spec.arena.width, spec.arena.height
     sx = drawn(g[2], *kind.size, kind.size_step)
     sy = sx if kind.uniform else drawn(g[3], *kind.size2, kind.depth_step)
     angle = turned(g[4], *rotation)
-    x = drawn(g[0], 0.0, width, kind.position_step, grid=True)
-    y = drawn(g[1], 0.0, height, kind.position_step, grid=True)
+    pitch = np.zeros(2)
+    ranges = [[0.0, width], [0.0, height]]
+    if row is not None:
+        lows_highs = outline(kind, sx, sy)[:, 0]
+        gap = drawn(int(genes[slot + 1, 0]), *row.spacing, row.spacing_step)
+        theta = math.radians(angle)
+        pitch = (lows_highs.max() - lows_highs.min() + gap) * np.array([math.cos(theta), math.sin(theta)])
+        for axis, (low, high) in enumerate(ranges):  # the last member within the arena too, if it fits
+            span = (count - 1) * pitch[axis]
+            first, last = low - min(span, 0.0), high - max(span, 0.0)
+            if first <= last:
+                ranges[axis] = [first, last]
+    x = drawn(g[0], *ranges[0], kind.position_step, grid=True)
+    y = drawn(g[1], *ranges[1], kind.position_step, grid=True)
     if kind.against_wall:
         back = -outline(kind, sx, sy)[:, 1].min()
         wall = round(angle / 90) % 4
         x, y = [(x, back), (width - back, y), (x, height - back), (back, y)][wall]
-    return [x, y, sx, sy, math.radians(angle)]
+    return [x, y, sx, sy, math.radians(angle)], pitch
 
 
 def reference_params(spec: Spec, mapped, genes: np.ndarray) -> np.ndarray:
@@ -94,21 +109,16 @@ def reference_params(spec: Spec, mapped, genes: np.ndarray) -> np.ndarray:
     for i in range(params.shape[0]):
         for k in range(mapped.n_elements[i]):
             kind = types[mapped.element_ids[i, k]]
-            line, member, _ = mapped.membership[i, k]
+            line, member, count = mapped.membership[i, k]
             if member > 0:
                 first = params[i, k - member]
                 params[i, k] = first
                 params[i, k, :2] += member * pitch
                 continue
             turn = rows[line] if line >= 0 else kind
-            params[i, k] = reference_row(spec, kind, genes[i], k, (turn.rotations, turn.rotation_range))
-            if line >= 0:
-                lows_highs = outline(kind, params[i, k, SX], params[i, k, SY])[:, 0]
-                gap = drawn(int(genes[i, k + 1, 0]), *rows[line].spacing, rows[line].spacing_step)
-                theta = params[i, k, THETA]
-                pitch = (lows_highs.max() - lows_highs.min() + gap) * np.array(
-                    [math.cos(theta), math.sin(theta)]
-                )
+            rotation = (turn.rotations, turn.rotation_range)
+            row = rows[line] if line >= 0 else None
+            params[i, k], pitch = reference_row(spec, kind, genes[i], k, rotation, row, int(count))
     return params
 
 

@@ -389,7 +389,7 @@ def test_a_driven_scenario_shows_its_drive_table(factory_run, tmp_path):
 
 def test_the_arena_words_of_a_map_and_zones_read_back_as_the_same_arena(tmp_path):
     """The report's words for examples/warehouse.maze's arena, written back as an arena block, are
-    that arena: its map, task, robot, grid and every zone."""
+    that arena: its map, tasks, robot, grid and every zone."""
     from mazegen.runtime.reports._spec_words import arena_words
     from tests.conftest import EXAMPLES
 
@@ -397,7 +397,8 @@ def test_the_arena_words_of_a_map_and_zones_read_back_as_the_same_arena(tmp_path
     shutil.copytree(EXAMPLES / "maps", tmp_path / "maps")
     shutil.copytree(EXAMPLES / "plugins", tmp_path / "plugins")
     text = (EXAMPLES / "warehouse.maze").read_text()
-    start, end = text.index("arena hall {"), text.index("scenario aisles")
-    block = "arena hall {\n    " + "\n    ".join(arena_words(spec.arena)) + "\n}\n\n"
+    start = text.index("arena hall {")
+    end = text.index("\n}\n", start) + len("\n}\n")
+    block = "arena hall {\n    " + "\n    ".join(arena_words(spec.arena)) + "\n}\n"
     (tmp_path / "again.maze").write_text(text[:start] + block + text[end:])
     assert mazegen.load(tmp_path / "again.maze").arena == spec.arena
