@@ -34,6 +34,8 @@ def document_arena(spec: Spec, document: dict[str, Any], filename: str) -> Arena
     if not isinstance(given, dict):
         return arena
     if "tasks" in given:
+        _named(given, "tasks", ("name",), filename)
+        _named(given, "stations", ("name", "point"), filename)
         tasks = tuple(
             _task(arena, item, f"arena.tasks[{k}]", filename) for k, item in enumerate(given["tasks"])
         )
@@ -50,6 +52,15 @@ def document_arena(spec: Spec, document: dict[str, Any], filename: str) -> Arena
     if (task.start, task.goal) == (arena.start, arena.goal):
         return arena
     return dataclasses.replace(arena, start=task.start, goal=task.goal, stations=(), tasks=())
+
+
+def _named(given: dict[str, Any], key: str, fields: tuple[str, ...], filename: str) -> None:
+    """Check that every entry of ``given[key]`` (a document's ``arena.tasks`` or ``arena.stations``,
+    whose values the document rules checked) has ``fields``."""
+    for k, item in enumerate(given.get(key, ())):
+        for field in fields:
+            if field not in item:
+                raise MazeError(f"arena.{key}[{k}]: '{field}' is missing", filename=filename)
 
 
 def _pair(value: Any) -> Point:

@@ -132,3 +132,22 @@ def test_exports_write_a_scen_line_and_a_pose_per_task(run_dir):
     for entry, task in zip(tasks, document["tasks"]):
         length = task["metrics"]["path_length"]
         assert entry["optimal_length"] == (None if length is None else pytest.approx(length / 100, abs=1e-6))
+
+
+@pytest.mark.parametrize(
+    ("key", "entry", "message"),
+    [
+        ("tasks", {"start": [100, 100], "goal": [900, 700]}, "arena.tasks[0]: 'name' is missing"),
+        ("stations", {"name": "dock"}, "arena.stations[0]: 'point' is missing"),
+    ],
+)
+def test_a_document_task_or_station_without_its_fields_is_one_located_line(run_dir, key, entry, message):
+    from mazegen.errors import MazeError
+    from mazegen.runtime.documents._task import task_spec
+
+    spec = mazegen.load(run_dir.parent / "tasks.maze")
+    document = read_document(run_dir / "run-01" / "best-01.json")
+    document["arena"][key] = [entry]
+    with pytest.raises(MazeError, match=message.replace("[", r"\[").replace("]", r"\]")) as caught:
+        task_spec(spec, document, "floor.json")
+    assert caught.value.filename == "floor.json" and "\n" not in str(caught.value)
