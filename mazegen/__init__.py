@@ -1,8 +1,8 @@
 """MazeGen: robot-navigation scenarios from a small language, by grammatical evolution.
 
-The API (``load``, ``build``, ``run``, ``resume``, ``sweep``, ``drive``) lives in :mod:`mazegen.api`;
-it and the types it returns are imported on first use, so that ``import mazegen`` stays
-light for the command line.
+The API (``load``, ``build``, ``run``, ``resume``, ``sweep``, ``drive``, ``classes``) lives in
+:mod:`mazegen.api`; it and the types it returns are imported on first use, so that
+``import mazegen`` stays light for the command line.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from mazegen.api import build, drive, load, resume, run, sweep
+    from mazegen.api import build, classes, drive, load, resume, run, sweep
     from mazegen.errors import MazeError
     from mazegen.runtime.plugin_view import Floors
     from mazegen.runtime.runs import ExperimentResult
@@ -20,6 +20,7 @@ from mazegen.version import __version__ as __version__  # the package states its
 
 _HOMES = {
     "build": "mazegen.api",
+    "classes": "mazegen.api",
     "drive": "mazegen.api",
     "load": "mazegen.api",
     "run": "mazegen.api",
@@ -38,6 +39,7 @@ __all__ = [
     "MazeError",
     "Spec",
     "build",
+    "classes",
     "drive",
     "load",
     "resume",

@@ -22,10 +22,10 @@ from typing import TYPE_CHECKING, Any
 from mazegen.dsl.loader import load_spec
 from mazegen.errors import MazeError
 from mazegen.generator.build import build as build_files
-from mazegen.spec import Spec
+from mazegen.spec import DETOUR, MAX_CLASSES, Spec
 
 if TYPE_CHECKING:
-    from mazegen.runtime.documents import Drive, Floor
+    from mazegen.runtime.documents import Classification, Drive, Floor
     from mazegen.runtime.runs import Executor, Experiment, ExperimentResult, Reporter
 
 
@@ -249,12 +249,50 @@ def drive(
     Raises:
         MazeError: for a scenario that cannot be read or driven, naming it.
     """
-    from mazegen.runtime.documents import checked_document, drive_floors, floor_of, load_floor, scenario_files
+    from mazegen.runtime.documents import drive_floors
 
-    given = spec if isinstance(spec, Spec) or spec is None else load_spec(spec)
     names = [controllers] if isinstance(controllers, str) else list(controllers)
     if not names:
         raise MazeError("drive needs at least one controller")
+    floors = _floors(scenarios, spec)
+    position = {id(floor): index for index, floor in enumerate(floors)}
+    ordered, drives = drive_floors(floors, names)
+    by_input = sorted(zip(ordered, drives), key=lambda pair: position[id(pair[0])])
+    return [result for _, row in by_input for result in row]
+
+
+def classes(
+    scenarios: Scenarios | Sequence[Scenarios],
+    controllers: str | Sequence[str] = (),
+    *,
+    spec: Spec | str | os.PathLike[str] | None = None,
+    max_classes: int = MAX_CLASSES,
+    detour: float = DETOUR,
+) -> Classification:
+    """The homotopy classes of each scenario's floor, and the scenarios grouped into the tests they
+    make (docs/classes.md).
+
+    ``scenarios`` and ``spec`` are taken as :func:`drive` takes them. Each floor keeps its
+    ``max_classes`` shortest classes, none longer than ``detour`` times its shortest path. With
+    ``controllers``, each drives every floor, and two floors are one test only when each
+    controller's outcome and the class of its trajectory match too.
+
+    Raises:
+        MazeError: for a scenario that cannot be read, naming it.
+    """
+    from mazegen.runtime.documents import classify
+
+    names = [controllers] if isinstance(controllers, str) else list(controllers)
+    return classify(_floors(scenarios, spec), names, max_classes=max_classes, detour=detour)
+
+
+def _floors(
+    scenarios: Scenarios | Sequence[Scenarios], spec: Spec | str | os.PathLike[str] | None
+) -> list[Floor]:
+    """The floors of :func:`drive`'s ``scenarios``: files, folders and documents, any mix."""
+    from mazegen.runtime.documents import checked_document, floor_of, load_floor, scenario_files
+
+    given = spec if isinstance(spec, Spec) or spec is None else load_spec(spec)
     items = [scenarios] if isinstance(scenarios, str | os.PathLike | Mapping) else list(scenarios)
     floors: list[Floor] = []
     for number, item in enumerate(items, 1):
@@ -266,10 +304,7 @@ def drive(
         else:
             paths = [path for path, _ in scenario_files(Path(item), any_folder=True)]
             floors += [load_floor(path, given) for path in paths]
-    position = {id(floor): index for index, floor in enumerate(floors)}
-    ordered, drives = drive_floors(floors, names)
-    by_input = sorted(zip(ordered, drives), key=lambda pair: position[id(pair[0])])
-    return [result for _, row in by_input for result in row]
+    return floors
 
 
 def _resumable(run_dir: Path, build: Path) -> Experiment:

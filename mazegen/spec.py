@@ -173,6 +173,11 @@ class Zone:
 MAX_TASKS = 1000
 """The most tasks an arena may have, listed and drawn together."""
 
+MAX_CLASSES = 8
+"""Homotopy classes of a floor's paths kept per task, at most (the shortest: docs/classes.md)."""
+DETOUR = 1.5
+"""A homotopy class whose shortest path is longer than this many times the floor's shortest is left out."""
+
 
 @dataclass(frozen=True)
 class Station:

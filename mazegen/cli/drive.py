@@ -20,7 +20,8 @@ from typing import TYPE_CHECKING, NoReturn
 import click
 
 from mazegen import plugins
-from mazegen.cli.errors import reports_errors, skip_file
+from mazegen.cli.errors import reports_errors
+from mazegen.cli.floors import load_floors, load_spec_file, source_files
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
 from mazegen.policies import is_policy_path, malformed_path
@@ -28,7 +29,7 @@ from mazegen.text import printable
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents import Drive, Floor, Floors, Summary
-    from mazegen.spec import Spec, Task
+    from mazegen.spec import Task
 
 
 def controller_names(given: Sequence[str]) -> list[str]:
@@ -111,13 +112,13 @@ def drive(
     from mazegen.runtime.documents import drive_floors, summaries
     from mazegen.runtime.runs import folder_in_use
 
-    resolved = _load_spec(spec)
+    resolved = load_spec_file(spec)
     say = partial(click.echo, err=True)
     # -o: the folder is held from the first read to the last write; a second drive into it, a run or
     # a resume of it is refused meanwhile, instead of one overwriting the other's results.
     with contextlib.nullcontext() if out is None else folder_in_use(out):
-        files = _source_files(sources)
-        loaded, failed = _load_floors(files, resolved)
+        files = source_files(sources)
+        loaded, failed = load_floors(files, resolved, driving=True)
         with noting_compiles(say, "drive", DRIVE_SECONDS):
             floors_of, drives = drive_floors(
                 loaded, names, no_path=lambda file, batch, task: say(no_path_line(file, batch, task))
@@ -135,50 +136,6 @@ def drive(
             _write(floors_of, drives, dict(files), out)
     if failed:
         raise SystemExit(1)
-
-
-def _load_spec(path: Path | None) -> Spec | None:
-    if path is None:
-        return None
-    from mazegen.dsl.loader import load_spec
-
-    return load_spec(path)
-
-
-def _load_floors(files: list[tuple[Path, Path]], spec: Spec | None) -> tuple[list[Floor], bool]:
-    """Each scenario file read, completed from its spec and checked against it (a robot can be sized on
-    its arena); one that cannot be is reported on one line and left out (a lone file's error ends
-    the command). A floor with a start and goal of its own is driven on them, with a note."""
-    from mazegen.runtime.documents import driving_robot, load_floor
-
-    floors, failed = [], False
-    for path, _ in files:
-        try:
-            floor = load_floor(path, spec)
-            driving_robot(floor.needs_spec("driving"), floor.where)
-            floor.population  # noqa: B018 - builds it, checking every element against the spec
-        except MazeError as error:
-            skip_file(error, alone=len(files) == 1)
-            failed = True
-            continue
-        note = floor.task_note("driven")
-        if note is not None:
-            click.echo(note, err=True)
-        floors.append(floor)
-    return floors, failed
-
-
-def _source_files(sources: Sequence[Path]) -> list[tuple[Path, Path]]:
-    """Every scenario file of ``sources``, each once, with the folder ``-o`` writes it into: its
-    place in its source, under the source's name when several sources are given."""
-    from mazegen.runtime.documents import scenario_files
-
-    found: dict[Path, tuple[Path, Path]] = {}
-    for source in sources:
-        below = Path(source.name) if len(sources) > 1 and source.is_dir() else Path()
-        for path, folder in scenario_files(source, any_folder=True):
-            found.setdefault(path.resolve(), (path, below / folder))
-    return list(found.values())
 
 
 def no_path_line(file: str, floors: Floors, task: Task | None) -> str:

@@ -27,6 +27,7 @@ COMMANDS = {
     "import": "import_command",
     "score": "score",
     "drive": "drive",
+    "classes": "classes",
     "fit": "fit",
     "render": "render",
     "export": "export",

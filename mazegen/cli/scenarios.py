@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -10,6 +11,9 @@ from mazegen.cli.bounds import BoundedOption, within
 from mazegen.cli.errors import reports_errors
 from mazegen.cli.runs import catalog_option
 from mazegen.text import printable
+
+if TYPE_CHECKING:
+    from mazegen.runtime.catalog import Catalog
 
 COLUMNS = (
     ("fitness", "fitness"),
@@ -78,6 +82,8 @@ def scenarios(
         parsed.append(Condition("solvable", "=", 1.0))
     query = ScenarioQuery(tuple(parsed), scenario, sort, ascending, limit)
     with Catalog.open(catalog, create=False) as opened:
+        if "classes" in {sort, *(condition.name for condition in parsed)}:
+            find_classes(opened)
         rows = scenario_rows(opened, query)
     if paths:
         for row in rows:
@@ -92,3 +98,31 @@ def scenarios(
     if sort not in dict(COLUMNS):
         columns.insert(4, ("sort_value", sort))  # show what the rows are sorted by
     click.echo(text_table(rows, columns))
+
+
+def find_classes(catalog: Catalog) -> None:
+    """Find and record the homotopy classes of the catalog's scenarios that have none recorded yet
+    (once: the catalog keeps them); a scenario that cannot be read is reported and left without."""
+    from functools import partial
+
+    from mazegen.cli.errors import skip_file
+    from mazegen.errors import MazeError
+    from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
+    from mazegen.runtime.documents import floor_classes, load_floor
+
+    missing = catalog.without_metric("classes")
+    if not missing:
+        return
+    say = partial(click.echo, err=True)
+    plural = "s" * (len(missing) != 1)
+    say(f"finding the homotopy classes of {len(missing)} scenario{plural} (once: the catalog keeps them)")
+    found = {}
+    with noting_compiles(say, "classification", DRIVE_SECONDS):
+        for path in missing:
+            try:
+                classes = floor_classes(load_floor(path))
+            except MazeError as error:
+                skip_file(error, alone=False)
+                continue
+            found[path] = (classes.count, classes.signature)
+    catalog.record_classes(found)

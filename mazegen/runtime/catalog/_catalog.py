@@ -92,6 +92,14 @@ CREATE TABLE IF NOT EXISTS metrics (
 );
 CREATE INDEX IF NOT EXISTS metrics_by_name ON metrics (name, value);
 """
+CLASSES = """
+CREATE TABLE IF NOT EXISTS classes (
+    scenario_id INTEGER PRIMARY KEY REFERENCES scenarios(id) ON DELETE CASCADE,
+    signature TEXT NOT NULL
+);
+"""
+"""The canonical homotopy class of each scenario whose classes were found (docs/classes.md): made
+when the first are recorded, so that catalogs written before it are still read (and read it)."""
 TABLES = ("experiments", "runs", "generations", "scenarios", "metrics")
 """The tables of :data:`SCHEMA`: a catalog without one of them is damaged."""
 
@@ -327,6 +335,30 @@ class Catalog:
             "INSERT INTO metrics VALUES (?, ?, ?)",
             [(cursor.lastrowid, name, _number(value)) for name, value in measured.items()],
         )
+
+    def record_classes(self, found: dict[Path, tuple[int, str]]) -> int:
+        """Record each scenario file's number of homotopy classes (the metric ``classes``) and canonical
+        class; files the catalog does not hold are left out. Returns how many it holds."""
+        held = 0
+        with self._write() as db:
+            db.execute(CLASSES)
+            for path, (count, signature) in found.items():
+                row = db.execute("SELECT id FROM scenarios WHERE path = ?", (self.relative(path),)).fetchone()
+                if row is None:
+                    continue
+                db.execute("INSERT OR REPLACE INTO metrics VALUES (?, 'classes', ?)", (row[0], float(count)))
+                db.execute("INSERT OR REPLACE INTO classes VALUES (?, ?)", (row[0], signature))
+                held += 1
+        return held
+
+    def without_metric(self, name: str) -> list[Path]:
+        """The files of the scenarios that have no value of metric ``name``."""
+        rows = self.query(
+            "SELECT path FROM scenarios s WHERE NOT EXISTS "
+            "(SELECT 1 FROM metrics m WHERE m.scenario_id = s.id AND m.name = ?) ORDER BY s.id",
+            (name,),
+        )
+        return [self.resolve(row[0]) for row in rows]
 
     def run_stopped(self, experiment: int, run: int, generation: int | None) -> None:
         """Record a run interrupted after ``generation``."""

@@ -12,6 +12,15 @@ from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
     from mazegen.runtime.documents._best import best_documents, row_document
+    from mazegen.runtime.documents._classes import (
+        ClassGroup,
+        Classification,
+        FloorClasses,
+        classify,
+        equivalence_groups,
+        equivalence_key,
+        floor_classes,
+    )
     from mazegen.runtime.documents._driving import (
         Drive,
         Floors,
@@ -50,10 +59,13 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Agreement",
+    "ClassGroup",
+    "Classification",
     "Drive",
     "Fit",
     "FitProblem",
     "Floor",
+    "FloorClasses",
     "Floors",
     "ImportedMap",
     "Measured",
@@ -67,11 +79,15 @@ __all__ = [
     "check_complete",
     "check_document",
     "checked_document",
+    "classify",
     "completed_document",
     "drive_floors",
     "driving_robot",
     "dumps",
+    "equivalence_groups",
+    "equivalence_key",
     "fit_controller",
+    "floor_classes",
     "floor_of",
     "has_parts",
     "load_floor",
@@ -92,6 +108,15 @@ __getattr__ = lazy_names(
     __name__,
     {
         "_best": ["best_documents", "row_document"],
+        "_classes": [
+            "ClassGroup",
+            "Classification",
+            "classify",
+            "equivalence_groups",
+            "equivalence_key",
+            "floor_classes",
+            "FloorClasses",
+        ],
         "_driving": [
             "Drive",
             "drive_floors",

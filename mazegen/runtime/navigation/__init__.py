@@ -10,6 +10,7 @@ from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
     from mazegen.runtime.navigation._calibration import spearman
+    from mazegen.runtime.navigation._classes import PathClass, Topology, floor_topology, topology
     from mazegen.runtime.navigation._connectivity import Reach, reach
     from mazegen.runtime.navigation._difficulty import Survey, survey
     from mazegen.runtime.navigation._measures import (
@@ -34,10 +35,13 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Navigation",
+    "PathClass",
     "Reach",
     "Survey",
+    "Topology",
     "copy_points",
     "corner_paths_of",
+    "floor_topology",
     "free_cells",
     "kernel_args",
     "navigate",
@@ -53,12 +57,14 @@ __all__ = [
     "survey",
     "survey_of",
     "task_views",
+    "topology",
 ]
 
 __getattr__ = lazy_names(
     __name__,
     {
         "_calibration": ["spearman"],
+        "_classes": ["floor_topology", "PathClass", "Topology", "topology"],
         "_connectivity": ["Reach", "reach"],
         "_difficulty": ["Survey", "survey"],
         "_measures": [
