@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mazegen.runtime.navigation._corridors import corridor_path, narrowest_width, sides, simple
+from mazegen.runtime.navigation._corridors import corridor_path, goal_distances, narrowest_width, sides, simple
 from mazegen.runtime.navigation._paths import free_cells
 from mazegen.runtime.navigation._rooms import BOUNDARY, CUT_COL, CUT_ROW, cut_rooms
 from mazegen.spec import DETOUR, MAX_CLASSES
@@ -145,6 +145,7 @@ def topology(
     holes = sorted({int(g) for g in cuts[:, 1:3].ravel().astype(np.int64)} - {BOUNDARY})
     marks = _marks(group, holes, ends, cell)
     start_point, goal_point = np.array(ends[0]), np.array(ends[1])
+    to_goal = goal_distances(free, goal)
     found: dict[tuple[int, ...], PathClass] = {}
     shortest = math.inf
     for tried, (estimate, walk_rooms, walk_cuts) in enumerate(walks):
@@ -152,7 +153,7 @@ def topology(
             break
         if len(found) >= max_classes and estimate > sorted(c.length for c in found.values())[max_classes - 1]:
             break  # the walks left are estimated longer than every class kept
-        path_cells, steps = corridor_path(room, cut_of, walk_rooms, walk_cuts, start, goal)
+        path_cells, steps = corridor_path(room, cut_of, walk_rooms, walk_cuts, start, goal, to_goal)
         if not path_cells.shape[0] or not simple(
             path_cells, *free.shape
         ):  # a class no path takes without looping

@@ -21,10 +21,37 @@ from mazegen.runtime.navigation._rooms import NOT_CUT, STEPS8
 
 
 @njit(cache=True)
-def corridor_path(room, cut_of, walk_rooms, walk_cuts, start, goal):  # pragma: no cover - compiled
+def goal_distances(free, goal):  # pragma: no cover - compiled
+    """``float64[rows, cols]``: each free cell's distance to ``goal`` by 8 neighbours (a diagonal step
+    only between two free cells), ``inf`` where none leads: the corridors' estimate, exact where
+    the walk's corridor holds the free floor's shortest way."""
+    rows, cols = free.shape
+    distance = np.full((rows, cols), np.inf)
+    distance[goal[0], goal[1]] = 0.0
+    heap = [(0.0, goal[0] * cols + goal[1])]
+    while heap:
+        here, cell = heapq.heappop(heap)
+        r, c = cell // cols, cell % cols
+        if here > distance[r, c]:
+            continue
+        for s in range(8):
+            rr, cc = r + STEPS8[s, 0], c + STEPS8[s, 1]
+            if not (0 <= rr < rows and 0 <= cc < cols and free[rr, cc]):
+                continue
+            if s % 2 == 1 and not (free[r, cc] and free[rr, c]):
+                continue
+            step = here + (math.sqrt(2.0) if s % 2 == 1 else 1.0)
+            if step < distance[rr, cc] - 1e-12:
+                distance[rr, cc] = step
+                heapq.heappush(heap, (step, rr * cols + cc))
+    return distance
+
+
+@njit(cache=True)
+def corridor_path(room, cut_of, walk_rooms, walk_cuts, start, goal, estimate):  # pragma: no cover - compiled
     """``(cells, length)``: the cells (``int64[n, 2]``, row and column) of the shortest path from
     ``start`` to ``goal`` along the walk, and its length in cells; no cells when there is none
-    (A* over cells and layers, the octile distance to the goal its estimate)."""
+    (A* over cells and layers, ``estimate`` of the distance left from each cell: :func:`goal_distances`)."""
     rows, cols = room.shape
     layers = 2 * walk_rooms.shape[0] - 1
     size = rows * cols
@@ -33,13 +60,13 @@ def corridor_path(room, cut_of, walk_rooms, walk_cuts, start, goal):  # pragma: 
     first = start[0] * cols + start[1]
     target = (layers - 1) * size + goal[0] * cols + goal[1]
     cost[first] = 0.0
-    heap = [(_octile(start[0], start[1], goal), first)]
+    heap = [(estimate[start[0], start[1]], first)]
     while heap:
-        estimate, state = heapq.heappop(heap)
+        queued, state = heapq.heappop(heap)
         if state == target:
             break
         here_cost = cost[state]
-        if estimate > here_cost + _octile(state % size // cols, state % cols, goal) + 1e-9:
+        if queued > here_cost + estimate[state % size // cols, state % cols] + 1e-9:
             continue  # queued before a shorter way here was found
         layer, cell = state // size, state % size
         r, c = cell // cols, cell % cols
@@ -65,7 +92,7 @@ def corridor_path(room, cut_of, walk_rooms, walk_cuts, start, goal):  # pragma: 
                     if here_cost + step < cost[next_state] - 1e-12:
                         cost[next_state] = here_cost + step
                         parent[next_state] = state
-                        heapq.heappush(heap, (here_cost + step + _octile(rr, cc, goal), next_state))
+                        heapq.heappush(heap, (here_cost + step + estimate[rr, cc], next_state))
                     if diagonal:
                         break
     if cost[target] == np.inf:
@@ -81,13 +108,6 @@ def corridor_path(room, cut_of, walk_rooms, walk_cuts, start, goal):  # pragma: 
         cells[k, 0], cells[k, 1] = cell // cols, cell % cols
         state = parent[state]
     return cells, cost[target]
-
-
-@inner_kernel
-def _octile(r, c, goal):  # pragma: no cover - compiled
-    """The length of the shortest 8-neighbour way to the goal on an empty grid: A*'s estimate."""
-    dr, dc = abs(goal[0] - r), abs(goal[1] - c)
-    return max(dr, dc) + (math.sqrt(2.0) - 1.0) * min(dr, dc)
 
 
 @inner_kernel
