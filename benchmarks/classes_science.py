@@ -1,7 +1,7 @@
 """Do floors of one homotopy class make one test (issue 30, part 4)? Measured difficulty against classes.
 
 Usage:
-    python benchmarks/classes_science.py                       # ~1 min warm (kernels compiled)
+    python benchmarks/classes_science.py                       # ~25 s warm (+30 s compiling, on first use)
     python benchmarks/classes_science.py --permutations 2000 --seed 2 --top 8
     python benchmarks/classes_science.py --no-run              # part 1 only: no run, no suite
 
@@ -19,7 +19,8 @@ of floors with measured drives, grouped by their canonical class (``signature``,
   over path length, a 50 s timeout counted as 30 s). The held-out half is never read.
 
 Per set (and per calibration spec) the one-way analysis of variance of the difficulty by group:
-within-group sum of squares over the total (1 − η²; 1 means the groups explain nothing), the F
+within-group sum of squares over the total (1 − η²), beside its expected value were the labels
+random, (N − k) / (N − 1) for N floors in k groups (singletons alone make it fall), the F
 statistic, and a permutation p-value (the group labels shuffled ``--permutations`` times, seeded; p
 is the share of shuffles with a between-group sum of squares at least the observed one, counting
 the observed labels once). Floors alone in their group carry no within-group information, so the
@@ -54,8 +55,7 @@ from common import BENCHMARKS, ROOT, markdown_table, write_csv
 from heterogeneous import BARN, import_barn
 
 import mazegen
-from mazegen.runtime.documents import load_floor
-from mazegen.runtime.documents._classes import floor_classes
+from mazegen.runtime.documents import floor_classes, load_floor
 from mazegen.runtime.geometry import grid_of
 from mazegen.runtime.navigation import floor_topology
 from mazegen.runtime.navigation._calibration import (
@@ -74,6 +74,7 @@ TESTS = [
     ("singletons", "groups of 1", "d"),
     ("largest", "largest group", "d"),
     ("ratio", "within / total variance", ".3f"),
+    ("null", "same, labels at random", ".3f"),
     ("f", "F", ".2f"),
     ("p", "permutation p", ".4f"),
 ]
@@ -126,7 +127,8 @@ def barn_set(folder: Path) -> list[dict]:
         number = int(floor.document["scenario"].rsplit("_", 1)[1])
         found = floor_classes(floor)
         rows.append({"source": "BARN train", "floor": f"world-{number:03d}", "classes": found.count,
-                     "signature": found.signature, "difficulty": float(entries[number]["target_dwa"])})  # fmt: skip
+                     "signature": found.signature,
+                     "difficulty": float(entries[number]["target_dwa"])})  # fmt: skip
     return rows
 
 
@@ -154,6 +156,7 @@ def anova(values: np.ndarray, labels: list, permutations: int, seed: int) -> dic
         "singletons": int((sizes == 1).sum()),
         "largest": int(sizes.max()),
         "ratio": within / total,
+        "null": (n - k) / (n - 1),
         "f": (observed / (k - 1)) / (within / (n - k)) if 1 < k < n and within > 0 else None,
         "p": (1 + extreme) / (1 + permutations) if k > 1 else None,
     }
@@ -205,7 +208,8 @@ def run_and_suite(folder: Path) -> tuple[list[dict], list[dict]]:
     spec = ROOT / "examples" / "factory.maze"
     mazegen.run(spec, out_dir=folder / "run", force=True, catalog=False)
     done = subprocess.run(
-        [sys.executable, "-m", "mazegen", "suite", str(spec), "--size", "20", "-o", str(folder / "suite"), "-q"],
+        [sys.executable, "-m", "mazegen", "suite", str(spec), "--size", "20", "-o", str(folder / "suite"),
+         "-q"],
         capture_output=True, text=True, check=False,
     )  # fmt: skip
     if done.returncode != 0:
@@ -254,7 +258,8 @@ def main() -> None:
     print(markdown_table([g for name in ("calibration workshop", "calibration factory", "BARN train")
                           for g in largest_groups(name, sets[name], args.top)], GROUPS))  # fmt: skip
     if distinct:
-        print("\nPart 2: distinct tests among a run's ten best floors and a suite's (examples/factory.maze)\n")
+        print("\nPart 2: distinct tests among a run's ten best floors and a suite's (examples/factory.maze)")
+        print()
         print(markdown_table(distinct, DISTINCT))
     write_csv(BENCHMARKS / "classes_science.csv", [*calibration, *barn, *made])
     print(f"\n{time.perf_counter() - started:.0f} s; wrote benchmarks/classes_science.csv")

@@ -113,14 +113,18 @@ def test_the_catalog_keeps_each_scenarios_classes(tmp_path):
     catalog = str(tmp_path / "runs" / "catalog.sqlite")
     assert invoke(str(tmp_path / "runs" / "first")).exit_code == 0  # records the first run's
     listed = CliRunner().invoke(
-        main, ["scenarios", "--catalog", catalog, "--where", "classes>=1", "--sort", "classes"], catch_exceptions=False
+        main,
+        ["scenarios", "--catalog", catalog, "--where", "classes>=1", "--sort", "classes"],
+        catch_exceptions=False,
     )
     assert listed.exit_code == 0, listed.output
     assert "finding the homotopy classes of 2 scenarios" in listed.output  # the second run's, once
     assert listed.output.count("best-0") == 4
     again = CliRunner().invoke(main, ["scenarios", "--catalog", catalog, "--where", "classes>=1", "--paths"])
     assert "finding" not in again.output
-    assert len(again.output.splitlines()) == 4 and all(Path(line).is_file() for line in again.output.splitlines())
+    assert len(again.output.splitlines()) == 4 and all(
+        Path(line).is_file() for line in again.output.splitlines()
+    )
     none = CliRunner().invoke(main, ["scenarios", "--catalog", catalog, "--where", "classes>=99", "--paths"])
     assert none.output.strip() == ""
 

@@ -22,12 +22,19 @@ from __future__ import annotations
 
 import heapq
 import math
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mazegen.runtime.navigation._corridors import corridor_path, goal_distances, narrowest_width, sides, simple
+from mazegen.runtime.navigation._corridors import (
+    corridor_path,
+    goal_distances,
+    narrowest_width,
+    sides,
+    simple,
+)
 from mazegen.runtime.navigation._paths import free_cells
 from mazegen.runtime.navigation._rooms import BOUNDARY, CUT_COL, CUT_ROW, cut_rooms
 from mazegen.spec import DETOUR, MAX_CLASSES
@@ -87,8 +94,8 @@ class Topology:
     @property
     def signature(self) -> str:
         """The canonical class: the number of classes and their sorted signatures, ``"3:LL,LR,RR"``
-        (``"1:"`` for one, ``"0:"`` for none). A floor and its mirror image have the same one; the
-        class of the shortest path (``classes[0]``) tells them apart."""
+        (``"1:"`` for one, ``"0:"`` for none). The sides are a path's own: a floor's mirror image
+        has every class's letters swapped."""
         return f"{len(self.classes)}:" + ",".join(sorted(c.signature for c in self.classes))
 
     def class_of(self, points: np.ndarray) -> str | None:
@@ -177,9 +184,9 @@ def topology(
     return Topology(classes, ends[0], ends[1], marks, tuple(key for key, _ in kept), tuple(telling))
 
 
-def _runs(items, value, tolerance):
+def _runs(items: list[int], value: Callable[[int], float], tolerance: float) -> list[list[int]]:
     """``items`` (sorted by ``value``) in runs whose neighbours' values are within ``tolerance``."""
-    runs: list[list] = []
+    runs: list[list[int]] = []
     for item in items:
         if runs and value(item) - value(runs[-1][-1]) <= tolerance:
             runs[-1].append(item)
@@ -188,7 +195,12 @@ def _runs(items, value, tolerance):
     return runs
 
 
-def _walks(cuts, joins, first, last, ends, cell):
+Ends = tuple[tuple[float, float], tuple[float, float]]
+
+
+def _walks(
+    cuts: np.ndarray, joins: np.ndarray, first: int, last: int, ends: Ends, cell: float
+) -> Iterator[tuple[float, np.ndarray, np.ndarray]]:
     """Walks from room ``first`` to room ``last`` as ``(estimate, rooms, cuts)``, shortest estimate
     first: the length through each crossed cut's narrowest point; no cut crossed twice."""
     crossing = (cuts[:, [CUT_COL, CUT_ROW]] + 0.5) * cell
@@ -199,7 +211,8 @@ def _walks(cuts, joins, first, last, ends, cell):
             beside.setdefault(a, []).append((k, b))
             beside.setdefault(b, []).append((k, a))
     start = np.asarray(ends[0])
-    queue = [(float(np.linalg.norm(goal - start)), 0.0, 0, (first,), (), tuple(start))]
+    Walk = tuple[float, float, int, tuple[int, ...], tuple[int, ...], tuple[float, ...]]
+    queue: list[Walk] = [(float(np.linalg.norm(goal - start)), 0.0, 0, (first,), (), tuple(start))]
     pushed = 0
     while queue:
         estimate, travelled, _, rooms, crossed, point = heapq.heappop(queue)
@@ -211,11 +224,11 @@ def _walks(cuts, joins, first, last, ends, cell):
                 continue
             step = travelled + math.dist(point, crossing[k])
             pushed += 1
-            heapq.heappush(queue, (step + math.dist(crossing[k], goal), step, pushed, (*rooms, there),
-                                   (*crossed, k), tuple(crossing[k])))  # fmt: skip
+            ahead = step + math.dist(crossing[k], goal)
+            heapq.heappush(queue, (ahead, step, pushed, (*rooms, there), (*crossed, k), tuple(crossing[k])))
 
 
-def _marks(group: np.ndarray, holes: list[int], ends, cell: float) -> np.ndarray:
+def _marks(group: np.ndarray, holes: list[int], ends: Ends, cell: float) -> np.ndarray:
     """A point of each hole: its cell farthest from the start-goal line, so never on it."""
     (sx, sy), (gx, gy) = ends
     norm = math.hypot(gx - sx, gy - sy) or 1.0
@@ -229,7 +242,9 @@ def _marks(group: np.ndarray, holes: list[int], ends, cell: float) -> np.ndarray
     return out
 
 
-def _canonical_order(group: np.ndarray, holes: list[int], ends, cell: float, tolerance: float) -> list[int]:
+def _canonical_order(
+    group: np.ndarray, holes: list[int], ends: Ends, cell: float, tolerance: float
+) -> list[int]:
     """The holes' indices in canonical order: by their centres' distance along the start-goal line,
     those within ``tolerance`` of each other from left to right."""
     (sx, sy), (gx, gy) = ends
