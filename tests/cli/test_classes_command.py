@@ -154,3 +154,15 @@ def test_a_floor_of_several_tasks_has_a_canonical_class_per_task(tmp_path, write
     assert east.signature == "2:L,R" and south.signature == "1:"  # going round above is too far
     assert floor.signature == f"{east.signature};{south.signature}"
     assert floor.count == len(east.classes) + len(south.classes)
+
+
+def test_the_same_floors_give_the_same_bytes_in_another_process(floors):
+    """The classes are computed in the calling process, from the floors alone: a second process,
+    with its own kernels loaded, prints them byte for byte."""
+    import subprocess
+    import sys
+
+    here = invoke(str(floors), "--json").output
+    command = [sys.executable, "-m", "mazegen", "classes", str(floors), "--json"]
+    there = subprocess.run(command, capture_output=True, text=True, check=True).stdout
+    assert here == there

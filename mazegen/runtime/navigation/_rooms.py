@@ -62,14 +62,14 @@ def cut_rooms(free, start, goal):  # pragma: no cover - compiled
     cut_of = np.full((rows, cols), NOT_CUT, np.int64)
     for k in range(cuts.shape[0]):
         _draw_cut(cuts, k, free, source, cut_of)
-    room = _rooms(component, cut_of)
+    room = _label_rooms(component, cut_of)
     joins = _cut_joins(cut_of, room, cuts.shape[0])
     _end_room(start, cut_of, room, component)
     _end_room(goal, cut_of, room, component)
     return group, component, label, nearest, cut_of, room, cuts, joins
 
 
-@njit(cache=True)
+@inner_kernel
 def obstacle_groups(free):  # pragma: no cover - compiled
     """Each blocked cell's group (8 neighbours; :data:`BOUNDARY` for those joined to the edge) and
     the number of groups."""
@@ -412,7 +412,7 @@ def _draw_line(r0, c0, r1, c1, free, cut_of, k):  # pragma: no cover - compiled
 
 
 @inner_kernel
-def _rooms(component, cut_of):  # pragma: no cover - compiled
+def _label_rooms(component, cut_of):  # pragma: no cover - compiled
     """The component's cells off the cuts, joined by 4 neighbours, numbered."""
     rows, cols = component.shape
     room = np.full((rows, cols), -1, np.int64)
