@@ -8,6 +8,7 @@ controller arrives by the straight line), so these tests see what the command do
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import pytest
@@ -106,25 +107,20 @@ def test_the_api_takes_folders_and_documents(floors):
     assert alone.signature == "1:" and alone.count == 1
 
 
-def test_the_catalog_keeps_each_scenarios_classes(tmp_path):
-    spec = mazegen.load(EXAMPLES / "factory.maze").with_evolution(best=2)
-    mazegen.run(spec, population=40, generations=1, out_dir=tmp_path / "runs" / "first")
-    mazegen.run(spec, population=40, generations=1, seed=2, out_dir=tmp_path / "runs" / "second")
-    catalog = str(tmp_path / "runs" / "catalog.sqlite")
-    assert invoke(str(tmp_path / "runs" / "first")).exit_code == 0  # records the first run's
-    listed = CliRunner().invoke(
-        main,
-        ["scenarios", "--catalog", catalog, "--where", "classes>=1", "--sort", "classes"],
-        catch_exceptions=False,
-    )
+def test_the_catalog_keeps_each_scenarios_classes(factory_run, tmp_path):
+    """A copy of a run of two runs, four best scenarios each: the first run's classes recorded by
+    ``classes``, the second's found by ``scenarios`` when a condition names them, once."""
+    shutil.copytree(factory_run.parent, tmp_path / "runs")
+    run, catalog = tmp_path / "runs" / factory_run.name, str(tmp_path / "runs" / "catalog.sqlite")
+    assert invoke(str(run / "run-01")).exit_code == 0  # records the first run's
+    query = ["scenarios", "--catalog", catalog, "--where", "classes>=1", "--sort", "classes"]
+    listed = CliRunner().invoke(main, query, catch_exceptions=False)
     assert listed.exit_code == 0, listed.output
-    assert "finding the homotopy classes of 2 scenarios" in listed.output  # the second run's, once
-    assert listed.output.count("best-0") == 4
+    assert "finding the homotopy classes of 4 scenarios" in listed.output  # the second run's, once
+    assert listed.output.count("best-0") == 8
     again = CliRunner().invoke(main, ["scenarios", "--catalog", catalog, "--where", "classes>=1", "--paths"])
     assert "finding" not in again.output
-    assert len(again.output.splitlines()) == 4 and all(
-        Path(line).is_file() for line in again.output.splitlines()
-    )
+    assert len(again.output.splitlines()) == 8 and all(Path(line).is_file() for line in again.output.splitlines())
     none = CliRunner().invoke(main, ["scenarios", "--catalog", catalog, "--where", "classes>=99", "--paths"])
     assert none.output.strip() == ""
 

@@ -269,6 +269,7 @@ def map_population(
     codons = np.ascontiguousarray(codons)
     if codons.ndim != 2 or codons.dtype.kind not in "iu" or max_elements < 0:
         raise ValueError("codons must be a 2-D integer array and max_elements >= 0")
+    codons = _kernel_codons(codons)
     n = codons.shape[0]
     layout = [
         ((n,), np.bool_),
@@ -323,6 +324,20 @@ def map_population(
     )
     in_blocks(_map_all, n, codons, grammar, options, arrays)
     return result
+
+
+def _kernel_codons(codons: np.ndarray) -> np.ndarray:
+    """``codons`` as the kernel takes them: the engine's ``int32`` as they are, any other integers as
+    ``int64``, so that the kernel compiles for two types, not one per type a caller has.
+
+    Raises:
+        ValueError: For unsigned codons beyond ``int64``.
+    """
+    if codons.dtype == np.int32 or codons.dtype == np.int64:
+        return codons
+    if codons.dtype == np.uint64 and codons.size and codons.max() > np.iinfo(np.int64).max:
+        raise ValueError("codons must fit in a 64-bit signed integer")
+    return codons.astype(np.int64)
 
 
 @njit(cache=True, nogil=True)

@@ -205,7 +205,8 @@ def _gap_entries(free, group, groups, component, label):  # pragma: no cover - c
     counts = np.cumsum(counts)
     ordered = np.empty((n, 3), np.int64)
     for e in range(n):
-        ordered[counts[out[e, 0]]] = out[e]
+        at = counts[out[e, 0]]
+        ordered[at, 0], ordered[at, 1], ordered[at, 2] = out[e, 0], out[e, 1], out[e, 2]
         counts[out[e, 0]] += 1
     return ordered
 
@@ -326,7 +327,7 @@ def _narrow_points(entries, width, rows, cols):  # pragma: no cover - compiled
     lowest = np.arange(n)  # per root: its narrowest entry
     done = np.zeros(n, np.bool_)
     at = np.full(rows * cols, -1, np.int64)
-    order = np.argsort(entries[:, 0] * (width.max() + 1.0) + width) if n else np.empty(0, np.int64)
+    order = _sorted_order(entries[:, 0] * (width.max() + 1.0) + width if n else width)
     first = 0
     while first < n:
         last = first
@@ -352,6 +353,29 @@ def _narrow_points(entries, width, rows, cols):  # pragma: no cover - compiled
             at[entries[e, 1]] = -1
         first = last
     return keep
+
+
+@inner_kernel
+def _sorted_order(keys):  # pragma: no cover - compiled
+    """The indices that sort ``keys``, equal keys in their order: a bottom-up merge sort (numba's
+    own argsort takes seconds more to compile, and this is all the rooms sort)."""
+    n = keys.shape[0]
+    order, spare = np.arange(n), np.empty(n, np.int64)
+    width = 1
+    while width < n:
+        for low in range(0, n, 2 * width):
+            middle, high = min(low + width, n), min(low + 2 * width, n)
+            i, j = low, middle
+            for k in range(low, high):
+                if i < middle and (j >= high or keys[order[i]] <= keys[order[j]]):
+                    spare[k] = order[i]
+                    i += 1
+                else:
+                    spare[k] = order[j]
+                    j += 1
+        order, spare = spare, order
+        width *= 2
+    return order
 
 
 @inner_kernel

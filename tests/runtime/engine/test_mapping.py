@@ -325,6 +325,12 @@ def test_kernel_codon_dtypes(dtype: type) -> None:
     _check_kernel(CASES["placed"][0], CASES["placed"][1], codons)
 
 
+def test_codons_beyond_64_bit_signed_integers_are_refused() -> None:
+    compiled = compile_grammar(*CASES["placed"])
+    with pytest.raises(ValueError, match="64-bit signed"):
+        map_population(compiled, np.array([[2**64 - 1]], np.uint64), max_elements=3)
+
+
 def test_kernel_negative_codons_and_empty_genomes() -> None:
     grammar, elements = CASES["tricky"]
     _check_kernel(grammar, elements, np.random.default_rng(5).integers(-300, 300, (500, 9)))
