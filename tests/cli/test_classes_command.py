@@ -120,7 +120,8 @@ def test_the_catalog_keeps_each_scenarios_classes(factory_run, tmp_path):
     assert listed.output.count("best-0") == 8
     again = CliRunner().invoke(main, ["scenarios", "--catalog", catalog, "--where", "classes>=1", "--paths"])
     assert "finding" not in again.output
-    assert len(again.output.splitlines()) == 8 and all(Path(line).is_file() for line in again.output.splitlines())
+    paths = again.output.splitlines()
+    assert len(paths) == 8 and all(Path(line).is_file() for line in paths)
     none = CliRunner().invoke(main, ["scenarios", "--catalog", catalog, "--where", "classes>=99", "--paths"])
     assert none.output.strip() == ""
 
