@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 
 import click
@@ -23,8 +24,10 @@ from mazegen.text import printable
 @reports_errors
 def report(folder: Path, out: Path | None, force: bool) -> None:
     """Write a self-contained HTML report of FOLDER (a run, suite or sweep folder): settings, the
-    best scenarios (linked to their pictures and JSON files), fitness and distributions."""
+    best scenarios (linked to their pictures and JSON files), fitness and distributions, and the
+    scenarios grouped by canonical homotopy class (the distinct tests they make)."""
     from mazegen.fileio import write_atomic
+    from mazegen.runtime.compiling import DRIVE_SECONDS, noting_compiles
     from mazegen.runtime.reports import folder_report
 
     target = out or folder / "report.html"
@@ -32,7 +35,8 @@ def report(folder: Path, out: Path | None, force: bool) -> None:
         raise MazeError(
             "already exists (use --force to replace it, or -o to choose another)", filename=str(target)
         )
-    page = folder_report(folder, links_from=target.parent)
+    with noting_compiles(partial(click.echo, err=True), "report", DRIVE_SECONDS):  # the classes' kernels
+        page = folder_report(folder, links_from=target.parent)
     try:
         write_atomic(target, page)
     except OSError as error:

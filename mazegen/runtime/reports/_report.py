@@ -29,6 +29,7 @@ from matplotlib.ticker import MaxNLocator
 from mazegen.errors import MazeError
 from mazegen.fileio import json_value, read_text
 from mazegen.runtime.documents import RunDirectory, read_document
+from mazegen.runtime.reports._report_classes import classes_table
 from mazegen.runtime.reports._report_html import (
     Saved,
     data_uri,
@@ -285,6 +286,8 @@ def run_sections(
         gallery(drawn, links_from),
         f"<{h}>Every best scenario</{h}>",
         scenarios_table(scenarios, links_from) if scenarios else "<p>No valid scenario was written.</p>",
+        f"<{h}>Distinct tests: the best scenarios by canonical class</{h}>",
+        classes_table(scenarios, links_from) if scenarios else "<p>No scenario to classify.</p>",
         f"<{h}>Fitness per generation</{h}>",
         f'<img class="chart" alt="fitness per generation" src="{data_uri(fitness_chart(run))}">',
         f"<{h}>Difficulty and elements of the best scenarios</{h}>",

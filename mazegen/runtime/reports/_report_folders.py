@@ -26,6 +26,7 @@ from mazegen.runtime.reports._report import (
     run_sections,
     statistic_table,
 )
+from mazegen.runtime.reports._report_classes import classes_table
 from mazegen.runtime.reports._report_html import (
     Saved,
     data_uri,
@@ -87,6 +88,8 @@ def suite_html(path: Path, *, links_from: Path) -> str:
         "<h2>Scenarios</h2>",
         scenarios_table(scenarios, links_from) if scenarios else "",
         gallery(scenarios, links_from),
+        "<h2>Distinct tests: the scenarios by canonical class</h2>",
+        classes_table(scenarios, links_from) if scenarios else "<p>No scenario to classify.</p>",
     ]
     return page(f"MazeGen suite: {spec.name}", sections)
 

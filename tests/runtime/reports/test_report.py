@@ -93,6 +93,20 @@ def test_the_page_is_self_contained_and_shows_the_best_of_each_run(factory_run):
     assert "size 1400 x 1050 cm" in text and "population 80" in text and "overlap penalty 0.5" in text
 
 
+def test_the_best_scenarios_are_grouped_by_their_canonical_class(factory_run):
+    """Each best scenario is in one group of the distinct-tests table, whose class is its own."""
+    import mazegen
+
+    text = report_html(read_run(factory_run))
+    table = text[text.index("Distinct tests") :]
+    table = table[: table.index("</table>")]
+    found = mazegen.classes(factory_run)
+    assert f"{len(found.groups)} distinct tests among {len(found.floors)} scenarios" in table
+    for group in found.groups:
+        assert f"<code>{html.escape(group.key)}</code>" in table
+    assert table.count("<tr>") == 1 + len(found.groups)
+
+
 def test_the_page_is_deterministic(factory_run):
     assert report_html(read_run(factory_run)) == report_html(read_run(factory_run))
 
