@@ -19,7 +19,7 @@ import click
 from mazegen.cli.bounds import Bounded, BoundedOption, within
 from mazegen.cli.drive import controller_names, controller_option, no_path_line
 from mazegen.cli.errors import reports_errors
-from mazegen.cli.floors import load_floors, load_spec_file, source_files
+from mazegen.cli.floors import load_floors, load_spec_file, source_files, sources_and_spec
 from mazegen.spec import DETOUR, MAX_CLASSES
 
 if TYPE_CHECKING:
@@ -27,13 +27,8 @@ if TYPE_CHECKING:
 
 
 @click.command()
-@click.argument("sources", nargs=-1, required=True, type=click.Path(exists=True, path_type=Path))
+@sources_and_spec
 @controller_option
-@click.option(
-    "--spec",
-    type=click.Path(exists=True, dir_okay=False, path_type=Path),
-    help="The scenarios' spec, when it is not in their run or suite directory.",
-)
 @click.option(
     "--max-classes",
     type=within(1, 64),

@@ -21,7 +21,7 @@ import click
 
 from mazegen import plugins
 from mazegen.cli.errors import reports_errors
-from mazegen.cli.floors import load_floors, load_spec_file, source_files
+from mazegen.cli.floors import load_floors, load_spec_file, source_files, sources_and_spec
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
 from mazegen.policies import is_policy_path, malformed_path
@@ -73,13 +73,8 @@ controller_option = click.option(
 
 
 @click.command()
-@click.argument("sources", nargs=-1, required=True, type=click.Path(exists=True, path_type=Path))
+@sources_and_spec
 @controller_option
-@click.option(
-    "--spec",
-    type=click.Path(exists=True, dir_okay=False, path_type=Path),
-    help="The scenarios' spec, when it is not in their run or suite directory.",
-)
 @click.option(
     "--json", "as_json", is_flag=True, help="One JSON object per scenario and controller, a line each."
 )

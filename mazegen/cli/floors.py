@@ -12,8 +12,22 @@ from mazegen.cli.errors import skip_file
 from mazegen.errors import MazeError
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from mazegen.runtime.documents import Floor
     from mazegen.spec import Spec
+
+
+def sources_and_spec(command: Callable) -> Callable:
+    """The ``SOURCES...`` argument (scenario files, run and suite directories, folders of them) and the
+    ``--spec`` option of a command that reads floors."""
+    command = click.option(
+        "--spec",
+        type=click.Path(exists=True, dir_okay=False, path_type=Path),
+        help="The scenarios' spec, when it is not in their run or suite directory.",
+    )(command)
+    sources = click.argument("sources", nargs=-1, required=True, type=click.Path(exists=True, path_type=Path))
+    return sources(command)
 
 
 def load_spec_file(path: Path | None) -> Spec | None:
