@@ -16,7 +16,7 @@ import numpy as np
 
 from mazegen.runtime.documents._driving import Drive, Floors, drive_floors
 from mazegen.runtime.documents._floor import Floor
-from mazegen.runtime.navigation import Topology, topology
+from mazegen.runtime.navigation import Topology, floor_topology
 from mazegen.spec import DETOUR, MAX_CLASSES
 
 if TYPE_CHECKING:
@@ -95,15 +95,7 @@ def floor_classes(floor: Floor, *, max_classes: int = MAX_CLASSES, detour: float
     found = []
     for task in spec.arena.every_task:
         on = grid.for_task(task.start, task.goal)
-        top = topology(
-            free,
-            cells=(on.start_cell, on.goal_cell),
-            ends=(on.start, on.goal),
-            cell=grid.cell,
-            radius=spec.arena.robot_radius,
-            max_classes=max_classes,
-            detour=detour,
-        )
+        top = floor_topology(floor.population, on, 0, free=free, max_classes=max_classes, detour=detour)
         found.append((task.name if tasks else None, top))
     return FloorClasses(floor.where, tuple(found))
 

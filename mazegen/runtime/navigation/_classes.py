@@ -108,11 +108,18 @@ class Topology:
 
 
 def floor_topology(
-    pop: Population, grid: Grid, index: int, *, max_classes: int = MAX_CLASSES, detour: float = DETOUR
+    pop: Population,
+    grid: Grid,
+    index: int,
+    *,
+    free: np.ndarray | None = None,
+    max_classes: int = MAX_CLASSES,
+    detour: float = DETOUR,
 ) -> Topology:
-    """The homotopy classes of individual ``index`` of ``pop`` from ``grid``'s start to its goal."""
+    """The homotopy classes of individual ``index`` of ``pop`` from ``grid``'s start to its goal;
+    ``free``: its free cells on ``grid``, when already found (one floor's tasks share them)."""
     return topology(
-        free_cells(pop, grid, index),
+        free_cells(pop, grid, index) if free is None else free,
         cells=(grid.start_cell, grid.goal_cell),
         ends=(grid.start, grid.goal),
         cell=grid.cell,
