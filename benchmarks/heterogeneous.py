@@ -33,6 +33,7 @@ from kernels import evolved_sample, load_problem
 
 import mazegen
 from mazegen.runtime.documents import Floors, load_floor
+from mazegen.runtime.navigation import navigation_of
 from mazegen.runtime.simulation import NO_PATH, DriveRequest, drive, drive_many
 from mazegen.spec import robot_for
 
@@ -78,7 +79,7 @@ def requests_of(files: list[Path], controller: str) -> list[DriveRequest]:
     for file in files:
         floor = load_floor(file)
         batch = Floors.of(floor.needs_spec("driving"), [(floor.where, floor.document)])
-        rows = np.flatnonzero(batch.solvable)
+        rows = np.flatnonzero(navigation_of(batch.population).solvable)
         requests.append(DriveRequest(batch.population, batch.robot, batch.robot.controller(controller), rows))
     return requests
 

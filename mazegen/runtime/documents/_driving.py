@@ -255,18 +255,25 @@ def drive_floors(
     the order each spec first appears, and their drives, task by task and controller by controller
     (:func:`drive_batches`); ``no_path`` is told of each floor (and task) not driven for want of a
     path, before any is driven."""
+    ordered, batches = floor_batches(floors)
+    if no_path is not None:
+        for batch in batches:
+            for file, task in batch.without_path:
+                no_path(file, batch, task)
+    drives = [row for batch_drives in drive_batches(batches, controllers) for row in batch_drives]
+    return ordered, drives
+
+
+def floor_batches(floors: Sequence[Floor]) -> tuple[list[Floor], list[Floors]]:
+    """The floors grouped by spec (a floor's own start and goal make a spec of their own), in the
+    order each spec first appears: the floors in that order, and one :class:`Floors` per spec."""
     groups: dict[Spec, list[Floor]] = {}
     for floor in floors:
         groups.setdefault(floor.needs_spec("driving"), []).append(floor)
     batches = [
         Floors.of(spec, [(floor.where, floor.document) for floor in group]) for spec, group in groups.items()
     ]
-    if no_path is not None:
-        for batch in batches:
-            for file, task in batch.without_path:
-                no_path(file, batch, task)
-    drives = [row for batch_drives in drive_batches(batches, controllers) for row in batch_drives]
-    return [floor for group in groups.values() for floor in group], drives
+    return [floor for group in groups.values() for floor in group], batches
 
 
 def driving_robot(spec: Spec, filename: str) -> Robot:

@@ -23,7 +23,7 @@ if TYPE_CHECKING:
         generation_stats,
     )
     from mazegen.runtime.engine._mapping import PopulationMap, map_genome, map_population, phenotype
-    from mazegen.runtime.engine._operators import random_codons, random_genes, ranking
+    from mazegen.runtime.engine._operators import mutate, mutation_draws, random_codons, random_genes, ranking
     from mazegen.runtime.engine._placement import PLACEMENT_GENES, SX, SY, THETA, Ranges, X, Y
     from mazegen.runtime.engine._population import Population, decode
     from mazegen.runtime.engine._problem import (
@@ -68,6 +68,8 @@ __all__ = [
     "make_children",
     "map_genome",
     "map_population",
+    "mutate",
+    "mutation_draws",
     "parse_bnf",
     "phenotype",
     "random_codons",
@@ -93,7 +95,7 @@ __getattr__ = lazy_names(
             "RunState",
         ],
         "_mapping": ["map_genome", "map_population", "phenotype", "PopulationMap"],
-        "_operators": ["random_codons", "random_genes", "ranking"],
+        "_operators": ["mutate", "mutation_draws", "random_codons", "random_genes", "ranking"],
         "_placement": ["PLACEMENT_GENES", "Ranges", "SX", "SY", "THETA", "X", "Y"],
         "_population": ["decode", "Population"],
         "_problem": [

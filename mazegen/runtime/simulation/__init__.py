@@ -20,20 +20,28 @@ if TYPE_CHECKING:
         Episodes,
         barn_score,
     )
+    from mazegen.runtime.simulation._levels import LevelRows, level_rows
+    from mazegen.runtime.simulation._lidar import beam_angles
     from mazegen.runtime.simulation._policy import Observations
+    from mazegen.runtime.simulation._slots import REWARD_TERMS, Slots
 
 __all__ = [
     "ARRIVED",
     "COLLISION",
     "NO_PATH",
     "OUTCOMES",
+    "REWARD_TERMS",
     "TIMEOUT",
     "DriveRequest",
     "Episodes",
+    "LevelRows",
     "Observations",
+    "Slots",
     "barn_score",
+    "beam_angles",
     "drive",
     "drive_many",
+    "level_rows",
 ]
 
 __getattr__ = lazy_names(
@@ -41,6 +49,9 @@ __getattr__ = lazy_names(
     {
         "_drive": ["drive", "drive_many", "DriveRequest"],
         "_episodes": ["ARRIVED", "barn_score", "COLLISION", "Episodes", "NO_PATH", "OUTCOMES", "TIMEOUT"],
+        "_levels": ["LevelRows", "level_rows"],
+        "_lidar": ["beam_angles"],
         "_policy": ["Observations"],
+        "_slots": ["REWARD_TERMS", "Slots"],
     },
 )

@@ -220,12 +220,10 @@ def _plan(request: DriveRequest) -> _Plan:
     m = len(rows)
     if m and (rows.min() < 0 or rows.max() >= population.size):
         raise MazeError(f"indices must lie in [0, {population.size}), got {rows.min()}..{rows.max()}")
-    poses = _starts(population, m, request.starts)
+    poses = start_poses(population, m, request.starts)
     paths = floor_paths(population, rows, margin=choice.margin)
     optimal = paths.length / robot.max_speed
-    max_steps = np.where(
-        np.isnan(optimal), 0, np.ceil(robot.timeout * np.nan_to_num(optimal) / robot.step - 1e-9)
-    )
+    max_steps, stuck_steps = step_limits(robot, optimal)
     setup = Setup(
         np.tile(robot_limits(robot, arena), (m, 1)),
         np.tile(np.array(arena.goal, np.float64), (m, 1)),
@@ -234,11 +232,19 @@ def _plan(request: DriveRequest) -> _Plan:
         np.tile(choice.params, (m, 1)),
         beam_angles(robot.beams, robot.fov) if choice.lidar else np.zeros(0),
         np.full(m, choice.reach),
-        max_steps.astype(np.int32),
-        np.full(m, max(1, math.ceil(robot.stuck / robot.step - 1e-9)), np.int64),
+        max_steps,
+        stuck_steps,
         np.full(m, robot.contact == "continue"),
     )
     return _Plan(FloorGroup(population, rows, robot), choice, setup, optimal, poses)
+
+
+def step_limits(robot: Robot, optimal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``int32`` steps before each episode times out (``robot.timeout`` times its optimal time, 0
+    without a path) and ``int64`` steps without progress before it times out, stuck."""
+    driven = np.ceil(robot.timeout * np.nan_to_num(optimal) / robot.step - 1e-9)
+    max_steps = np.where(np.isnan(optimal), 0, driven).astype(np.int32)
+    return max_steps, np.full(len(optimal), max(1, math.ceil(robot.stuck / robot.step - 1e-9)), np.int64)
 
 
 def _joined(planned: list[_Plan], record: bool) -> DriveState:
@@ -255,7 +261,8 @@ def _joined(planned: list[_Plan], record: bool) -> DriveState:
     return DriveState(groups, planned[0].choice, optimal, setup, robots, record)
 
 
-def _starts(population: Population, m: int, starts: np.ndarray | None) -> np.ndarray:
+def start_poses(population: Population, m: int, starts: np.ndarray | None) -> np.ndarray:
+    """``float64[m, 3]``: ``starts`` checked, or the arena's start heading toward the goal ``m`` times."""
     arena = population.arena
     if starts is None:
         (sx, sy), (gx, gy) = arena.start, arena.goal

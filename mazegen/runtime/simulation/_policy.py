@@ -133,12 +133,19 @@ def _observe_kernel(
 ):  # pragma: no cover - compiled
     near = np.empty(most, np.int64)
     for j in range(first, last):
-        m = active[j]
-        x, y, theta = state[m, X], state[m, Y], state[m, THETA]
-        if angles.shape[0]:
-            scan(x, y, theta, angles, reach[m], m, world, near, ranges[j])
-        dx, dy = goal[m, 0] - x, goal[m, 1] - y
-        bearing = math.atan2(dy, dx) - theta
-        to_goal[j, 0] = math.hypot(dx, dy)
-        to_goal[j, 1] = math.cos(bearing)
-        to_goal[j, 2] = math.sin(bearing)
+        look(active[j], j, state, goal, angles, reach, world, near, ranges, to_goal)
+
+
+@njit(cache=True)
+def look(m, j, state, goal, angles, reach, world, near, ranges, to_goal):  # pragma: no cover - compiled
+    """What robot ``m`` sees, written to row ``j`` of ``ranges`` (its lidar, when it has beams) and of
+    ``to_goal`` (the goal's distance and the cosine and sine of its bearing); ``near`` is the scan's
+    scratch."""
+    x, y, theta = state[m, X], state[m, Y], state[m, THETA]
+    if angles.shape[0]:
+        scan(x, y, theta, angles, reach[m], m, world, near, ranges[j])
+    dx, dy = goal[m, 0] - x, goal[m, 1] - y
+    bearing = math.atan2(dy, dx) - theta
+    to_goal[j, 0] = math.hypot(dx, dy)
+    to_goal[j, 1] = math.cos(bearing)
+    to_goal[j, 2] = math.sin(bearing)

@@ -35,7 +35,6 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._collide import NO_HIT, disc_entry, distance, sweep
 from mazegen.runtime.simulation._controllers import (
     ACCEL,
@@ -103,7 +102,7 @@ def begin_all(starts, limits, goal, world, state, outcome):  # pragma: no cover 
             begin(m, starts[m, 0], starts[m, 1], starts[m, 2], limits[m], goal[m], world, state, outcome)
 
 
-@inner_kernel
+@njit(cache=True)
 def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no cover - compiled
     """Put robot ``m`` at its start, at rest; a start touching an obstacle is a collision and a
     start within the goal tolerance an arrival, both after 0 steps."""
