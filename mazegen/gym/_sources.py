@@ -233,17 +233,28 @@ def level_source(levels: Any, *, robot: Robot | None = None) -> LevelSource:
     """What an environment draws from, given ``levels``: None (fresh floors of the bundled training
     spec), a ``.maze`` spec or a :class:`~mazegen.spec.Spec` (its fresh floors), a ``.npz`` of
     :class:`Levels`, scenario files and folders (:func:`file_levels`), a :class:`Levels` (drawn
-    uniformly), a source (anything with ``sample(rng, n)``) or a function ``(rng, n) -> Levels``."""
+    uniformly), a source (anything with ``sample(rng, n)``) or a function ``(rng, n) -> Levels``.
+    ``robot`` drives the levels of a spec or of scenario files; levels already made carry their own.
+
+    Raises:
+        MazeError: for anything else, or a ``robot`` given with levels already made.
+    """
     if levels is None:
         return SpecLevels(TRAINING_SPEC, robot=robot)
     if isinstance(levels, Spec):
         return SpecLevels(levels, robot=robot)
+    path = Path(levels) if isinstance(levels, str | os.PathLike) else None
+    made = isinstance(levels, Levels | LevelSource) or (path is not None and path.suffix == ".npz")
+    made = made or (path is None and callable(levels))
+    if robot is not None and made:
+        raise MazeError(
+            "robot= drives the levels of a spec or scenario files: levels already made carry theirs"
+        )
     if isinstance(levels, Levels):
         return LevelPool(levels)
     if isinstance(levels, LevelSource):
         return levels
-    if isinstance(levels, str | os.PathLike):
-        path = Path(levels)
+    if path is not None:
         if path.suffix == ".maze":
             return SpecLevels(path, robot=robot)
         if path.suffix == ".npz":

@@ -110,3 +110,11 @@ def test_what_a_level_source_is_made_of():
     assert isinstance(level_source(TRAINING_SPEC), SpecLevels)
     with pytest.raises(MazeError, match="levels must be a spec, files, Levels, a source or a sampler"):
         level_source(3.5)
+
+
+def test_a_robot_for_levels_already_made_is_refused_not_ignored(training):
+    levels = training.sample(np.random.default_rng(6), 2)
+    with pytest.raises(MazeError, match="levels already made carry theirs"):
+        level_source(levels, robot=training.robot)
+    with pytest.raises(MazeError, match="levels already made carry theirs"):
+        FloorVectorEnv(2, levels=lambda rng, n: levels, robot=training.robot, beams=0)
