@@ -162,12 +162,20 @@ class LevelSampler:
         return where
 
     def update(self, index: np.ndarray, scores: np.ndarray) -> None:
-        """New scores for buffer levels ``index`` (after they were played)."""
-        for k, score in zip(
-            np.asarray(index).reshape(-1).tolist(), np.broadcast_to(scores, np.shape(index)).reshape(-1)
-        ):
+        """New scores for buffer levels ``index`` (after they were played).
+
+        Raises:
+            MazeError: for an index the buffer does not hold, or scores that do not match the indices.
+        """
+        at = np.asarray(index, np.int64).reshape(-1)
+        given = np.asarray(scores, np.float64).reshape(-1)
+        if given.size == 1:
+            given = np.full(at.size, given[0])
+        if given.size != at.size or (at.size and not 0 <= at.min() <= at.max() < self.size):
+            raise MazeError(f"update takes buffer indices within [0, {self.size}) and one score each")
+        for k, score in zip(at.tolist(), given.tolist()):
             self.episodes += 1
-            self._score(int(k), float(score))
+            self._score(k, score)
 
     def weights(self) -> np.ndarray:
         """``float64[size]``: each level's replay probability."""
@@ -265,11 +273,6 @@ def _gae(
         advantage[t] = running
         following = values[t]
     return advantage
-
-
-def difficulty_scores(levels: Levels) -> np.ndarray:
-    """MazeGen's difficulty score of each level, as the sampler's scores (0 where unknown)."""
-    return np.nan_to_num(levels.difficulty)
 
 
 def controller_failure(levels: Levels, controller: str = "straight", *, beams: int = 360) -> np.ndarray:

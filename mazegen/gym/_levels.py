@@ -13,7 +13,7 @@ import hashlib
 import io
 import os
 import zipfile
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -79,32 +79,20 @@ class Levels:
         """``parts``' levels one after another; genomes kept when all share one spec and genome shape."""
         if len(parts) == 1:
             return parts[0]
-        first = parts[0]
-        same = (
-            all(p.has_genomes and p.spec == first.spec for p in parts)
-            and len(
-                {
-                    (p.codons.shape[1:], p.genes.shape[1:])
-                    for p in parts
-                    if p.codons is not None and p.genes is not None
-                }
-            )
-            == 1
-        )
+        genomes = [(p.codons, p.genes) for p in parts if p.codons is not None and p.genes is not None]
+        shapes = {(codons.shape[1:], genes.shape[1:]) for codons, genes in genomes}
+        specs = {p.spec for p in parts}
+        same = len(genomes) == len(parts) and len(specs) == 1 and len(shapes) == 1
         return cls(
             LevelRows.joined([p.rows for p in parts]),
             np.concatenate([p.ids for p in parts]),
             np.concatenate([p.hashes for p in parts]),
             np.concatenate([p.difficulty for p in parts]),
             np.concatenate([p.task for p in parts]),
-            first.spec if len({p.spec for p in parts}) == 1 else "",
-            np.concatenate([p.codons for p in parts]) if same and first.codons is not None else None,
-            np.concatenate([p.genes for p in parts]) if same and first.genes is not None else None,
+            parts[0].spec if len(specs) == 1 else "",
+            np.concatenate([codons for codons, _ in genomes]) if same else None,
+            np.concatenate([genes for _, genes in genomes]) if same else None,
         )
-
-    def with_ids(self, ids: np.ndarray) -> Levels:
-        """These levels named ``ids``."""
-        return replace(self, ids=np.asarray(ids, np.str_))
 
     def save(self, path: str | os.PathLike[str]) -> Path:
         """Write the levels to one ``.npz`` file (written whole or not at all); returns its path."""

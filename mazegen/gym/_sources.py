@@ -19,7 +19,7 @@ import numpy as np
 from mazegen.errors import MazeError
 from mazegen.gym._levels import Levels, level_hashes
 from mazegen.runtime.engine import Population, Problem, random_codons, random_genes
-from mazegen.runtime.navigation import navigation_of, survey_of, task_views
+from mazegen.runtime.navigation import survey_of, task_views
 from mazegen.runtime.simulation import level_rows
 from mazegen.spec import Robot, Spec
 
@@ -125,7 +125,8 @@ class SpecLevels:
         playing task ``tasks[k]``."""
         _, population = self.problem.decode(codons, genes)
         refused = np.logical_or.reduce(list(self.problem.rejections(population).values()))
-        keep = np.flatnonzero(population.valid & ~refused & navigation_of(population).solvable)
+        solvable = survey_of(population).navigation.solvable  # the survey the levels' difficulty reads
+        keep = np.flatnonzero(population.valid & ~refused & solvable)
         name = self.spec.scenario.name
         levels = population_levels(population, self.robot, keep, tasks[keep], name)
         ids = np.array([f"{name}:{digest}" for digest in levels.hashes], np.str_)
@@ -154,7 +155,7 @@ def population_levels(
                 hashes,
                 hashes,
                 survey_of(view).difficulty[rows[at]],
-                np.full(at.size, "" if task is None else task.name, dtype=object).astype(np.str_),
+                np.full(at.size, "" if task is None else task.name, np.str_),
                 spec,
             )
         )
@@ -201,7 +202,7 @@ def file_levels(
         population, arena = batch.population, batch.spec.arena
         tasks = max(1, len(arena.tasks))
         pairs = [(i, t) for i in range(population.size) for t in range(tasks)]
-        solvable = [navigation_of(view).solvable for view in task_views(population)]
+        solvable = [survey_of(view).navigation.solvable for view in task_views(population)]
         pairs = [(i, t) for i, t in pairs if solvable[t][i]]
         rows, chosen = np.array([i for i, _ in pairs], np.int64), np.array([t for _, t in pairs], np.int64)
         name = batch.spec.scenario.name

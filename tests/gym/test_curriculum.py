@@ -116,3 +116,14 @@ def test_a_bundled_controllers_failure_scores_the_levels(levels):
         if done.any():
             ended[done] = info["final_info"]["outcome"][done]
     np.testing.assert_array_equal(failed, (ended != 0).astype(float))
+
+
+def test_an_update_of_a_level_not_held_is_one_line(levels):
+    sampler = LevelSampler(capacity=2)
+    sampler.insert(levels.take([0]), 0.5)
+    with pytest.raises(MazeError, match=r"buffer indices within \[0, 1\) and one score each"):
+        sampler.update(np.array([1]), np.array([0.3]))
+    with pytest.raises(MazeError, match="one score each"):
+        sampler.update(np.array([0, 0]), np.array([0.3, 0.2, 0.1]))
+    sampler.update(np.array([0]), 0.75)
+    assert sampler.scores.tolist() == [0.75]

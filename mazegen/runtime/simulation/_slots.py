@@ -74,15 +74,13 @@ class Slots:
         self.to_goal = np.zeros((n, 3))
         self.reward = np.zeros(n)
         self.to_go = np.zeros(n)
-        self.levels = LevelRows.joined(  # what each slot plays: nothing yet, one padding part each
-            [LevelRows(
-                parts=np.zeros((n, 1, 3, 2)), count=np.zeros((n, 1), np.int64),
-                box=np.tile(INERT_BOX, (n, 1, 1)), size=np.ones((n, 2)), start=np.zeros((n, 3)),
-                goal=np.zeros((n, 2)), limits=np.ones((n, 8)), path=np.zeros((n, 1, 2)),
-                path_count=np.zeros(n, np.int64), optimal_time=np.full(n, np.nan),
-                max_steps=np.zeros(n, np.int32), stuck_steps=np.ones(n, np.int64),
-                carry_on=np.zeros(n, np.bool_), reach=np.zeros(n), scale=np.ones(n),
-            )]
+        self.levels = LevelRows(  # what each slot plays: nothing yet, one padding part each
+            parts=np.zeros((n, 1, 3, 2)), count=np.zeros((n, 1), np.int64),
+            box=np.tile(INERT_BOX, (n, 1, 1)), size=np.ones((n, 2)), start=np.zeros((n, 3)),
+            goal=np.zeros((n, 2)), limits=np.ones((n, 8)), path=np.zeros((n, 1, 2)),
+            path_count=np.zeros(n, np.int64), optimal_time=np.full(n, np.nan),
+            max_steps=np.zeros(n, np.int32), stuck_steps=np.ones(n, np.int64),
+            carry_on=np.zeros(n, np.bool_), reach=np.zeros(n), scale=np.ones(n),
         )  # fmt: skip
         self._world: tuple = ()
         self._rebuild_world()
