@@ -65,7 +65,7 @@ class Slots:
 
     def __init__(self, n: int, angles: np.ndarray, *, waypoint: float = 0.0) -> None:
         self.n = n
-        self.waypoint = waypoint
+        self.waypoint = float(waypoint)
         self.to_waypoint = np.zeros((n if waypoint else 0, 3))
         self.angles = np.ascontiguousarray(angles, np.float64)
         self.robots = Robots.new(n, None)
@@ -83,6 +83,11 @@ class Slots:
             carry_on=np.zeros(n, np.bool_), reach=np.zeros(n), scale=np.ones(n),
         )  # fmt: skip
         self._world: tuple = ()
+        self._ours: tuple = ()
+        self._given: tuple = (
+            None,
+            (),
+        )  # the levels last loaded from, and their arrays as the kernel takes them
         self._rebuild_world()
 
     @property
@@ -105,28 +110,17 @@ class Slots:
         the level's start, and observe it (a start touching an obstacle ends the episode as a collision
         after 0 steps)."""
         slots = np.asarray(slots, np.int64)
+        rows = np.arange(len(slots), dtype=np.int64) if rows is None else np.asarray(rows, np.int64)
         if any(a > b for a, b in zip(_shapes(levels), _shapes(self.levels))):  # room for its parts and path
             self.levels = LevelRows.joined([self.levels, levels.take(np.zeros(0, np.int64))])
             self._rebuild_world()
-        given = levels.arrays
-        for name, target in self.levels.arrays.items():
-            source = given[name] if rows is None else given[name][rows]
-            if source.shape[1:] == target.shape[1:]:
-                target[slots] = source
-                continue
-            target[slots] = INERT_BOX if name == "box" else 0
-            span: tuple[Any, ...] = (slots, *(slice(0, k) for k in source.shape[1:]))
-            target[span] = source
-        robots = self.robots
-        for array in (robots.steps, robots.progress, robots.stuck, robots.contacts):
-            array[slots] = 0
-        robots.outcome[slots] = ACTIVE
-        self.reward[slots] = 0.0
-        levels = self.levels
-        _begin_slots(
-            slots, levels.start, levels.limits, levels.path, levels.path_count, levels.goal, self._world,
-            self.to_go, robots.state, robots.outcome, self.angles, levels.reach, self.capacity, self.ranges,
-            self.to_goal, self._ahead, self.to_waypoint,
+        if levels is not self._given[0]:  # a pool loads from one set of levels again and again
+            ours = self.levels.arrays.values()
+            given = (np.ascontiguousarray(a, b.dtype) for a, b in zip(levels.arrays.values(), ours))
+            self._given = (levels, tuple(given))
+        _load_slots(
+            slots, rows, self._given[1], self._ours, self._world, self.robots.arrays, self.to_go,
+            self.reward, self.angles, self.capacity, self.ranges, self.to_goal, self.waypoint, self.to_waypoint,
         )  # fmt: skip
 
     def step(self, actions: np.ndarray, weights: np.ndarray) -> np.ndarray:
@@ -139,7 +133,7 @@ class Slots:
                 _step_slots, self.n, np.ascontiguousarray(actions, np.float64), self._world, self._episode,
                 self.robots.arrays, self.levels.path, self.levels.path_count, self.levels.scale, self.to_go,
                 np.ascontiguousarray(weights, np.float64), self.angles, self.levels.reach, self.capacity,
-                self.reward, self.ranges, self.to_goal, self._ahead, self.to_waypoint, per_thread=2,
+                self.reward, self.ranges, self.to_goal, self.waypoint, self.to_waypoint, per_thread=2,
             )  # fmt: skip
         return self.reward
 
@@ -174,11 +168,6 @@ class Slots:
         return bool((self.robots.outcome == ACTIVE).any())
 
     @property
-    def _ahead(self) -> np.ndarray:
-        """How far ahead along its path each slot's waypoint lies, in its level's unit."""
-        return self.waypoint / self.levels.scale
-
-    @property
     def _episode(self) -> tuple:
         levels = self.levels
         return levels.limits, levels.goal, levels.max_steps, levels.stuck_steps, levels.carry_on
@@ -190,6 +179,7 @@ class Slots:
         first = np.arange(n + 1, dtype=np.int64) * p
         vertices = levels.parts.reshape(n * p, *levels.parts.shape[2:])
         self._world = (first, vertices, levels.count.reshape(-1), levels.box.reshape(n * p, 4), levels.size)
+        self._ours = tuple(levels.arrays.values())
 
 
 def _shapes(levels: LevelRows) -> tuple[int, int, int]:
@@ -198,25 +188,64 @@ def _shapes(levels: LevelRows) -> tuple[int, int, int]:
 
 
 @njit(cache=True)
-def _begin_slots(
-    slots, start, limits, path, path_count, goal, world, to_go, state, outcome, angles, reach, capacity,
-    ranges, to_goal, ahead, to_waypoint,
+def _load_slots(
+    slots, rows, given, ours, world, robots, to_go, reward, angles, capacity, ranges, to_goal, waypoint,
+    to_waypoint,
 ):  # fmt: skip  # pragma: no cover - compiled
-    """Put the robots of ``slots`` at their starts, measure their way to go and observe them."""
+    """Copy level ``rows[j]`` of ``given`` (:class:`LevelRows`' arrays in field order) into slot
+    ``slots[j]`` of ``ours`` (padding what it leaves of the slot's parts, vertices and path), put the
+    slot's robot at its start, measure its way to go and observe it."""
+    parts, count, box, size, start, goal, limits, path, path_count = ours[:9]
+    optimal_time, max_steps, stuck_steps, carry_on, reach, scale = ours[9:]
+    state, outcome, steps, progress, stuck, contacts = robots
     near = np.empty(capacity, np.int64)
     for j in range(slots.shape[0]):
-        m = slots[j]
+        m, k = slots[j], rows[j]
+        for p in range(parts.shape[1]):
+            real = p < given[0].shape[1]
+            count[m, p] = given[1][k, p] if real else 0
+            for c in range(4):
+                box[m, p, c] = given[2][k, p, c] if real else INERT_BOX[c]
+            for v in range(parts.shape[2]):
+                inside = real and v < given[0].shape[2]
+                parts[m, p, v, 0] = given[0][k, p, v, 0] if inside else 0.0
+                parts[m, p, v, 1] = given[0][k, p, v, 1] if inside else 0.0
+        for c in range(path.shape[1]):
+            inside = c < given[7].shape[1]
+            path[m, c, 0] = given[7][k, c, 0] if inside else 0.0
+            path[m, c, 1] = given[7][k, c, 1] if inside else 0.0
+        _copy_row(given[3], k, size, m)
+        _copy_row(given[4], k, start, m)
+        _copy_row(given[5], k, goal, m)
+        _copy_row(given[6], k, limits, m)
+        path_count[m], optimal_time[m], max_steps[m] = given[8][k], given[9][k], given[10][k]
+        stuck_steps[m], carry_on[m], reach[m], scale[m] = (
+            given[11][k],
+            given[12][k],
+            given[13][k],
+            given[14][k],
+        )
+        steps[m] = progress[m] = contacts[m] = 0
+        stuck[m] = False
+        outcome[m] = ACTIVE
+        reward[m] = 0.0
         begin(m, start[m, 0], start[m, 1], start[m, 2], limits[m], goal[m], world, state, outcome)
         to_go[m] = path_to_go(state[m, X], state[m, Y], path[m], path_count[m], goal[m])
         look(m, m, state, goal, angles, reach, world, near, ranges, to_goal)
         if to_waypoint.shape[0]:
-            path_waypoint(state[m], path[m], path_count[m], goal[m], ahead[m], to_waypoint[m])
+            path_waypoint(state[m], path[m], path_count[m], goal[m], waypoint / scale[m], to_waypoint[m])
+
+
+@inner_kernel
+def _copy_row(source, k, target, m):  # pragma: no cover - compiled
+    for c in range(target.shape[1]):
+        target[m, c] = source[k, c]
 
 
 @njit(cache=True, nogil=True)
 def _step_slots(
     first, last, actions, world, episode, robots, path, path_count, scale, to_go, weights, angles, reach,
-    capacity, reward, ranges, to_goal, ahead, to_waypoint,
+    capacity, reward, ranges, to_goal, waypoint, to_waypoint,
 ):  # fmt: skip  # pragma: no cover - compiled
     state, outcome, contacts = robots[0], robots[1], robots[5]
     goal = episode[1]
@@ -236,7 +265,7 @@ def _step_slots(
         reward[m] = r
         look(m, m, state, goal, angles, reach, world, near, ranges, to_goal)
         if to_waypoint.shape[0]:
-            path_waypoint(state[m], path[m], path_count[m], goal[m], ahead[m], to_waypoint[m])
+            path_waypoint(state[m], path[m], path_count[m], goal[m], waypoint / scale[m], to_waypoint[m])
 
 
 @njit(cache=True, nogil=True)
@@ -308,11 +337,11 @@ def path_to_go(x, y, path, count, goal):  # pragma: no cover - compiled
     for k in range(count - 2, -1, -1):
         ax, ay, bx, by = path[k, 0], path[k, 1], path[k + 1, 0], path[k + 1, 1]
         ex, ey = bx - ax, by - ay
-        length = math.hypot(ex, ey)
+        length = math.sqrt(ex * ex + ey * ey)  # sqrt, not hypot: no overflow to guard against here
         t = 0.0
         if length > 0.0:
             t = min(max(((x - ax) * ex + (y - ay) * ey) / (length * length), 0.0), 1.0)
         qx, qy = ax + t * ex, ay + t * ey
-        best = min(best, math.hypot(x - qx, y - qy) + (1.0 - t) * length + after)
+        best = min(best, math.sqrt((x - qx) * (x - qx) + (y - qy) * (y - qy)) + (1.0 - t) * length + after)
         after += length
     return best
