@@ -1,5 +1,5 @@
 """Train a navigation policy on MazeGen's floors with an evolution strategy, in NumPy alone, and compare
-two curricula: uniform fresh floors, and a prioritised level sampler fed by the mutator (ACCEL-style).
+two curricula: uniform floors, and a prioritised level sampler fed by the mutator (ACCEL-style).
 
 Usage:
     python examples/learning/train.py                  # both curricula, a few minutes on 2 cores
@@ -9,14 +9,16 @@ The policy is a small network (lidar sectors, the goal, a waypoint 1 m ahead alo
 the velocity in; speed and turn rate out) whose weights an OpenAI-style evolution strategy searches:
 antithetic Gaussian perturbations, centred ranks, Adam. Each iteration plays every candidate on the
 same few levels at once, in one ``FloorVectorEnv`` (candidates x levels sub-environments); a
-candidate's fitness is its mean episode return. The uniform curriculum draws fresh floors of the
-bundled training spec every iteration; the prioritised one draws them from a ``LevelSampler`` scored
-by learnability (``p (1 - p)``, ``p`` the share of candidates that arrive: floors some candidates solve
-and some do not), into which the mutator adds children of the floors it replays. Both policies then
-drive in the environment, and ``straight`` and ``purepursuit`` through ``mazegen``'s ``drive`` (the same
-simulator), over a held-out suite (``mazegen suite`` of the same spec, a seed of its own): success,
-BARN's score, and success on the hardest quarter by MazeGen's difficulty. Writes
-``examples/learning/out/`` (``--out``): the policies' weights and the figures.
+candidate's fitness is its mean episode return. Both curricula train on the floors of a few graded
+suites of the bundled training spec (``mazegen suite``, each with a seed of its own: floors spread over
+difficulty and element count, where fresh random floors of the spec are mostly near-empty). The
+uniform curriculum draws them uniformly every iteration; the prioritised one draws them from a
+``LevelSampler`` scored by learnability (``p (1 - p)``, ``p`` the share of candidates that arrive:
+floors some candidates solve and some do not), into which the mutator adds children of the floors it
+replays. Both policies then drive in the environment, and ``straight`` and ``purepursuit`` through
+``mazegen``'s ``drive`` (the same simulator), over a held-out suite (a suite of the same spec, a seed of
+its own): success, BARN's score, and success on the hardest quarter by MazeGen's difficulty.
+Writes ``examples/learning/out/`` (``--out``): the policies' weights and the figures.
 """
 
 from __future__ import annotations
@@ -36,6 +38,7 @@ from mazegen.gym import (
     TRAINING_SPEC,
     FloorVectorEnv,
     LevelMutator,
+    LevelPool,
     Levels,
     LevelSampler,
     SpecLevels,
@@ -117,8 +120,11 @@ def centred_ranks(values: np.ndarray) -> np.ndarray:
     return ranks / (len(values) - 1) - 0.5
 
 
-def train(curriculum: str, generator: SpecLevels, args: argparse.Namespace) -> tuple[np.ndarray, list[dict]]:
-    """The weights an evolution strategy finds under ``curriculum`` (``uniform`` or ``prioritised``)."""
+def train(
+    curriculum: str, generator: SpecLevels, floors: LevelPool, args: argparse.Namespace
+) -> tuple[np.ndarray, list[dict]]:
+    """The weights an evolution strategy finds under ``curriculum`` (``uniform`` or ``prioritised``) on
+    the training ``floors``."""
     rng = np.random.default_rng(args.seed)
     theta = rng.normal(0.0, 0.1, PARAMETERS)
     adam = Adam(PARAMETERS, args.rate)
@@ -126,12 +132,12 @@ def train(curriculum: str, generator: SpecLevels, args: argparse.Namespace) -> t
     env = FloorVectorEnv(
         2 * pairs * args.levels, levels=generator, beams=BEAMS, waypoint=WAYPOINT, seed=args.seed
     )
-    sampler = LevelSampler(capacity=400, replay_prob=0.8, minimum_fill_ratio=0.05, generator=generator)
+    sampler = LevelSampler(capacity=400, replay_prob=0.8, minimum_fill_ratio=0.05, generator=floors)
     mutator = LevelMutator(generator)
     history = []
     for iteration in range(args.iterations):
         levels = (
-            generator.sample(rng, args.levels)
+            floors.sample(rng, args.levels)
             if curriculum == "uniform"
             else sampler.sample(rng, args.levels)
         )
@@ -161,21 +167,27 @@ def train(curriculum: str, generator: SpecLevels, args: argparse.Namespace) -> t
     return theta, history
 
 
-def held_out_suite(generator: SpecLevels, args: argparse.Namespace) -> Levels:
-    """A graded suite of the training spec, made by ``mazegen suite`` with a seed of its own: floors the
-    training never drew, spread over difficulty and element count."""
-    folder = args.out / "held-out-suite"
+def suite(generator: SpecLevels, name: str, seed: int, args: argparse.Namespace) -> Levels:
+    """A graded suite of the training spec made by ``mazegen suite`` with ``seed``: floors spread over
+    difficulty and element count (its archive holds about a hundred)."""
+    folder = args.out / name
     command = [sys.executable, "-m", "mazegen", "suite", str(TRAINING_SPEC), "--size", str(args.held_out)]
-    command += ["--seed", str(args.seed + 1000), "-o", str(folder), "--force", "--quiet"]
-    subprocess.run(command, check=True)
+    command += ["--seed", str(seed), "--iterations", str(args.suite_iterations)]
+    subprocess.run([*command, "-o", str(folder), "--force", "--quiet"], check=True)
     return file_levels(folder, robot=generator.robot)
+
+
+def training_floors(generator: SpecLevels, args: argparse.Namespace) -> LevelPool:
+    """The floors both curricula train on: ``--training-suites`` suites, each with a seed of its own."""
+    seeds = range(args.seed + 2000, args.seed + 2000 + args.training_suites)
+    return LevelPool(Levels.joined([suite(generator, f"training-suite-{k}", k, args) for k in seeds]))
 
 
 def held_out_table(
     generator: SpecLevels, policies: dict[str, np.ndarray], args: argparse.Namespace
 ) -> list[dict]:
     """Success and BARN's score of each controller on the held-out suite (all, and its hardest quarter)."""
-    levels = held_out_suite(generator, args)
+    levels = suite(generator, "held-out-suite", args.seed + 1000, args)
     _, floors = generator.problem.decode(levels.codons, levels.genes)
     hard = levels.difficulty >= np.quantile(levels.difficulty, 0.75)
     outcomes = {
@@ -205,15 +217,19 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--sigma", type=float, default=0.1)
     parser.add_argument("--rate", type=float, default=0.05)
     parser.add_argument("--held-out", type=int, default=100, help="floors of the held-out suite")
+    parser.add_argument("--training-suites", type=int, default=4, help="suites the training floors come from")
+    parser.add_argument("--suite-iterations", type=int, default=100, help="batches each suite breeds")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--out", type=Path, default=OUT, help="where the policies and results go")
     args = parser.parse_args(argv)
     started = time.perf_counter()
     base = SpecLevels(TRAINING_SPEC)
     generator = SpecLevels(TRAINING_SPEC, robot=dataclasses.replace(base.robot, beams=BEAMS, timeout=3.0))
+    floors = training_floors(generator, args)
+    print(f"training on {len(floors.levels)} floors of {args.training_suites} suites")
     policies, histories = {}, {}
     for curriculum in ("uniform", "prioritised"):
-        policies[curriculum], histories[curriculum] = train(curriculum, generator, args)
+        policies[curriculum], histories[curriculum] = train(curriculum, generator, floors, args)
     rows = held_out_table(generator, policies, args)
     floors, hard = rows[0]["floors"], rows[0]["hard floors"]
     print(f"\nheld-out suite: {floors} floors of the training spec ({hard} in the hardest quarter)")

@@ -15,7 +15,7 @@ import numpy as np
 
 from mazegen.errors import MazeError
 from mazegen.gym._levels import Levels
-from mazegen.gym._sources import SpecLevels
+from mazegen.gym._sources import LevelSource, SpecLevels
 from mazegen.runtime.engine import mutate, mutation_draws
 from mazegen.runtime.simulation import ARRIVED, REWARD_TERMS, Slots, beam_angles
 
@@ -103,7 +103,7 @@ class LevelSampler:
         temperature: float = 0.3,
         topk_k: int = 4,
         duplicate_check: bool = True,
-        generator: SpecLevels | None = None,
+        generator: LevelSource | None = None,
         new_score: float = 0.0,
     ) -> None:
         if prioritization not in ("rank", "topk"):

@@ -20,6 +20,10 @@ def test_the_learning_example_trains_both_curricula_and_compares_them_on_held_ou
         "2",
         "--held-out",
         "8",
+        "--training-suites",
+        "1",
+        "--suite-iterations",
+        "2",
         "--out",
         str(tmp_path),
     ]
