@@ -137,9 +137,7 @@ def train(
     history = []
     for iteration in range(args.iterations):
         levels = (
-            floors.sample(rng, args.levels)
-            if curriculum == "uniform"
-            else sampler.sample(rng, args.levels)
+            floors.sample(rng, args.levels) if curriculum == "uniform" else sampler.sample(rng, args.levels)
         )
         noise = rng.normal(size=(pairs, PARAMETERS))
         candidates = np.vstack([theta + args.sigma * noise, theta - args.sigma * noise])

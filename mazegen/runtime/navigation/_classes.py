@@ -7,44 +7,35 @@ passes on the other side, the groups in a canonical order (along the start-goal 
 left to right). A floor's **canonical class** is the set of its classes' signatures: two floors
 with equal ones offer a robot the same choices of route, however different their coordinates.
 
-The classes are found on the configuration space, for the robot's disc (docs/classes.md):
-
-1. the free space is cut into rooms (:mod:`._rooms`);
-2. walks through the rooms, from the start's to the goal's, are taken in order of their length
-   through the cuts' narrowest points, best first, no cut crossed twice;
-3. each walk's corridor is searched for its shortest path (:mod:`._corridors`), whose sides of
-   every obstacle group make its class; a class keeps its shortest path;
-4. classes whose shortest path is longer than ``detour`` times the floor's shortest path are
-   left out (a robot would not take them), and at most ``max_classes`` are kept, shortest first.
+The classes are found on the configuration space, for the robot's disc (docs/classes.md), by
+:mod:`._homotopy`: an A* search over the free rectangles and each path's H-signature (its crossings
+of a ray from every obstacle group), each class's corridor pulled taut into its shortest path. Classes
+whose shortest path is longer than ``detour`` times the floor's shortest are left out (a robot would
+not take them), and at most ``max_classes`` are kept, shortest first.
 """
 
 from __future__ import annotations
 
-import heapq
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mazegen.runtime.navigation._corridors import (
-    corridor_path,
-    goal_distances,
-    narrowest_width,
-    sides,
-    simple,
+from mazegen.runtime.navigation._homotopy import (
+    GOAL_STATES_PER_CLASS,
+    MAX_HOLES,
+    class_scratch,
+    floor_classes,
 )
 from mazegen.runtime.navigation._paths import free_cells
-from mazegen.runtime.navigation._rooms import BOUNDARY, CUT_COL, CUT_ROW, cut_rooms
+from mazegen.runtime.navigation._sides import narrowest_width, sides
 from mazegen.spec import DETOUR, MAX_CLASSES
 
 if TYPE_CHECKING:
     from mazegen.runtime.engine import Population
     from mazegen.runtime.geometry import Grid
-
-WALKS_PER_CLASS = 4
-"""Walks searched per class kept, at most: several walks through the rooms may be one class."""
 
 
 @dataclass(frozen=True)
@@ -150,45 +141,62 @@ def topology(
         max_classes: Classes kept, at most.
         detour: Longest class kept, as a multiple of the shortest.
     """
-    start, goal = (np.array(c, dtype=np.int64) for c in cells)
     free = np.ascontiguousarray(free, np.bool_)
-    group, component, _, _, cut_of, room, cuts, joins = cut_rooms(free, start, goal)
-    if not component[goal[0], goal[1]]:
-        return Topology((), ends[0], ends[1], np.empty((0, 2)), (), ())
-    walks = _walks(cuts, joins, room[start[0], start[1]], room[goal[0], goal[1]], ends, cell)
-    holes = sorted({int(g) for g in cuts[:, 1:3].ravel().astype(np.int64)} - {BOUNDARY})
-    marks = _marks(group, holes, ends, cell)
-    start_point, goal_point = np.array(ends[0]), np.array(ends[1])
-    to_goal = goal_distances(free, goal)
-    found: dict[tuple[int, ...], PathClass] = {}
-    shortest = math.inf
-    for tried, (estimate, walk_rooms, walk_cuts) in enumerate(walks):
-        if tried >= WALKS_PER_CLASS * max_classes or estimate > detour * shortest:
-            break
-        if len(found) >= max_classes and estimate > sorted(c.length for c in found.values())[max_classes - 1]:
-            break  # the walks left are estimated longer than every class kept
-        path_cells, steps = corridor_path(room, cut_of, walk_rooms, walk_cuts, start, goal, to_goal)
-        if not path_cells.shape[0] or not simple(
-            path_cells, *free.shape
-        ):  # a class no path takes without looping
+    rows, cols = free.shape
+    scratch = class_scratch(rows, cols, max_classes)
+    signatures = GOAL_STATES_PER_CLASS * max_classes
+    lengths, keys = np.zeros(signatures), np.zeros((signatures, MAX_HOLES), np.int64)
+    paths, turns = np.zeros((signatures, len(scratch[12]), 2)), np.zeros(signatures, np.int64)
+    found, holes = floor_classes(
+        _bit_rows(free), cols, np.array([*cells[0], *cells[1]], np.int64),
+        np.array([*ends[0], *ends[1]], np.float64) / cell, max_classes, float(detour), scratch, lengths,
+        keys, paths, turns,
+    )  # fmt: skip
+    marks, centres = scratch[3][:holes, :2] * cell, scratch[3][:holes, 3:5] / scratch[3][:holes, 5:] * cell
+    if not found:
+        return Topology((), ends[0], ends[1], marks, (), ())
+    shortest = float(lengths[:found].min()) * cell
+    best: dict[tuple[int, ...], PathClass] = {}
+    for k in range(found):
+        length = float(lengths[k]) * cell
+        key = tuple(keys[k, :holes].tolist())
+        if length > detour * shortest + 1e-9:
             continue
-        points = (path_cells[:, ::-1] + 0.5) * cell
+        points = paths[k, : turns[k]] * cell
         points[0], points[-1] = ends
-        key = tuple(sides(points, marks, start_point, goal_point).tolist())
-        length = steps * cell
-        shortest = min(shortest, length)
-        if key not in found or length < found[key].length:
-            narrowest = narrowest_width(path_cells, free) * cell + 2 * radius
-            found[key] = PathClass("", length, float(narrowest), points)
-    kept = sorted(((key, c) for key, c in found.items() if c.length <= detour * shortest + 1e-9),
-                  key=lambda kc: (kc[1].length, kc[0]))[:max_classes]  # fmt: skip
-    order = _canonical_order(group, holes, ends, cell, radius)
+        narrowest = narrowest_width(_cells_along(points / cell), free) * cell + 2 * radius
+        best[key] = PathClass("", length, float(narrowest), points)
+    kept = sorted(best.items(), key=lambda kc: (kc[1].length, kc[0]))[:max_classes]
+    order = _canonical_order(centres, ends, radius)
     telling = [k for k in order if len({key[k] for key, _ in kept}) > 1]
     classes = tuple(
         PathClass("".join("L" if key[k] > 0 else "R" for k in telling), c.length, c.narrowest, c.path)
         for key, c in kept
     )
     return Topology(classes, ends[0], ends[1], marks, tuple(key for key, _ in kept), tuple(telling))
+
+
+def _bit_rows(free: np.ndarray) -> np.ndarray:
+    """``uint64[rows, words]``: the bit rows of a ``bool[rows, cols]`` grid, column ``c`` bit ``c % 64`` of
+    word ``c // 64`` (as :mod:`mazegen.runtime.geometry._cspace` writes them)."""
+    rows, cols = free.shape
+    words = (cols + 63) // 64
+    padded = np.zeros((rows, 64 * words), np.bool_)
+    padded[:, :cols] = free
+    return np.packbits(padded, axis=1, bitorder="little").view("<u8").astype(np.uint64)
+
+
+def _cells_along(points: np.ndarray) -> np.ndarray:
+    """``int64[n, 2]``: the cells (row, column) a polyline of ``points`` (cells) passes, in order, each
+    once in a row (sampled every quarter cell)."""
+    starts, moves = points[:-1], np.diff(points, axis=0)
+    samples = np.maximum(2, (4 * np.hypot(moves[:, 0], moves[:, 1])).astype(np.int64) + 1)
+    segment = np.repeat(np.arange(len(moves)), samples)
+    along = np.arange(samples.sum()) - np.repeat(np.cumsum(samples) - samples, samples)
+    sampled = starts[segment] + moves[segment] * (along / (samples[segment] - 1))[:, None]
+    cells = np.floor(sampled[:, ::-1]).astype(np.int64)
+    change = np.concatenate([[True], (np.diff(cells, axis=0) != 0).any(axis=1)])
+    return cells[change]
 
 
 def _runs(items: list[int], value: Callable[[int], float], tolerance: float) -> list[list[int]]:
@@ -205,65 +213,15 @@ def _runs(items: list[int], value: Callable[[int], float], tolerance: float) -> 
 Ends = tuple[tuple[float, float], tuple[float, float]]
 
 
-def _walks(
-    cuts: np.ndarray, joins: np.ndarray, first: int, last: int, ends: Ends, cell: float
-) -> Iterator[tuple[float, np.ndarray, np.ndarray]]:
-    """Walks from room ``first`` to room ``last`` as ``(estimate, rooms, cuts)``, shortest estimate
-    first: the length through each crossed cut's narrowest point; no cut crossed twice."""
-    crossing = (cuts[:, [CUT_COL, CUT_ROW]] + 0.5) * cell
-    goal = np.asarray(ends[1])
-    beside: dict[int, list[tuple[int, int]]] = {}
-    for k, (a, b) in enumerate(joins.tolist()):
-        if a != b and a >= 0:
-            beside.setdefault(a, []).append((k, b))
-            beside.setdefault(b, []).append((k, a))
-    start = np.asarray(ends[0])
-    Walk = tuple[float, float, int, tuple[int, ...], tuple[int, ...], tuple[float, ...]]
-    queue: list[Walk] = [(float(np.linalg.norm(goal - start)), 0.0, 0, (first,), (), tuple(start))]
-    pushed = 0
-    while queue:
-        estimate, travelled, _, rooms, crossed, point = heapq.heappop(queue)
-        here = rooms[-1]
-        if here == last:
-            yield estimate, np.array(rooms, np.int64), np.array(crossed, np.int64)
-        for k, there in beside.get(here, ()):
-            if k in crossed:
-                continue
-            step = travelled + math.dist(point, crossing[k])
-            pushed += 1
-            ahead = step + math.dist(crossing[k], goal)
-            heapq.heappush(queue, (ahead, step, pushed, (*rooms, there), (*crossed, k), tuple(crossing[k])))
-
-
-def _marks(group: np.ndarray, holes: list[int], ends: Ends, cell: float) -> np.ndarray:
-    """A point of each hole: its cell farthest from the start-goal line, so never on it."""
-    (sx, sy), (gx, gy) = ends
-    norm = math.hypot(gx - sx, gy - sy) or 1.0
-    out = np.empty((len(holes), 2))
-    for k, hole in enumerate(holes):
-        rows, cols = np.nonzero(group == hole)
-        x, y = (cols + 0.5) * cell, (rows + 0.5) * cell
-        away = np.abs((gx - sx) * (y - sy) - (gy - sy) * (x - sx)) / norm
-        j = int(np.argmax(away))
-        out[k] = x[j], y[j]
-    return out
-
-
-def _canonical_order(
-    group: np.ndarray, holes: list[int], ends: Ends, cell: float, tolerance: float
-) -> list[int]:
+def _canonical_order(centres: np.ndarray, ends: Ends, tolerance: float) -> list[int]:
     """The holes' indices in canonical order: by their centres' distance along the start-goal line,
     those within ``tolerance`` of each other from left to right."""
     (sx, sy), (gx, gy) = ends
     norm = math.hypot(gx - sx, gy - sy) or 1.0
     ux, uy = (gx - sx) / norm, (gy - sy) / norm
-    along, left = [], []
-    for hole in holes:
-        rows, cols = np.nonzero(group == hole)
-        x, y = float(np.mean((cols + 0.5) * cell)) - sx, float(np.mean((rows + 0.5) * cell)) - sy
-        along.append(x * ux + y * uy)
-        left.append(ux * y - uy * x)
-    order = sorted(range(len(holes)), key=lambda k: along[k])
+    x, y = centres[:, 0] - sx, centres[:, 1] - sy
+    along, left = (x * ux + y * uy).tolist(), (ux * y - uy * x).tolist()
+    order = sorted(range(len(centres)), key=lambda k: along[k])
     return [
         k for run in _runs(order, lambda k: along[k], tolerance) for k in sorted(run, key=lambda k: -left[k])
     ]

@@ -319,7 +319,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
         corridor[hops] = q
         hops += 1
         q = marks[q, PREVIOUS]
-    total, turns = _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners)
+    total, turns = funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners)
     for t in range(turns):
         corners[t, 0] *= cell
         corners[t, 1] *= cell
@@ -334,8 +334,8 @@ def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
     return used + 1
 
 
-@inner_kernel
-def _funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma: no cover - compiled
+@njit(cache=True)
+def funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma: no cover - compiled
     """The shortest path from start to goal through the corridor's portals, in cell units: (length, corners).
 
     ``corridor[hops - 1] .. corridor[0]`` are the rectangles from start to goal. Each

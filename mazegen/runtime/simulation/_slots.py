@@ -18,7 +18,6 @@ the progress terms of an episode add up to its start's ``to_go`` less its end's,
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 from numba import njit
@@ -119,8 +118,8 @@ class Slots:
             given = (np.ascontiguousarray(a, b.dtype) for a, b in zip(levels.arrays.values(), ours))
             self._given = (levels, tuple(given))
         _load_slots(
-            slots, rows, self._given[1], self._ours, self._world, self.robots.arrays, self.to_go,
-            self.reward, self.angles, self.capacity, self.ranges, self.to_goal, self.waypoint, self.to_waypoint,
+            slots, rows, self._given[1], self._ours, self._world, self.robots.arrays, self.to_go, self.reward,
+            self.angles, self.capacity, self.ranges, self.to_goal, self.waypoint, self.to_waypoint,
         )  # fmt: skip
 
     def step(self, actions: np.ndarray, weights: np.ndarray) -> np.ndarray:
