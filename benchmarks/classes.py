@@ -7,10 +7,12 @@ Usage:
 Evolves the factory example (population 1,000, 10 generations) and takes the valid, solvable floors
 of its final population. Times, after a warm-up call that compiles every kernel: the path search
 (``navigate``: solvability and path length of every floor, one call), the survey (the path and
-BARN's difficulty metrics) and the classes of every floor (``floor_topology``, floor by floor),
-with the default settings and with ``--max-classes``; medians of wall time. Prints the seconds per
-floor and each one's ratio to the path search, the mean number of classes, and how many floors hit
-the limit; writes ``benchmarks/classes.csv``.
+BARN's difficulty metrics), the number of classes of every floor in one compiled call
+(``class_counts``: what a suite's measure and the ``classes`` fitness term read) and the classes of
+every floor named with their paths and gaps (``floor_topology``, floor by floor), with the default
+settings and with ``--max-classes``; medians of wall time, on the threads in use (``--threads``).
+Prints the seconds per floor and each one's ratio to the path search, the mean number of classes,
+and how many floors hit the limit; writes ``benchmarks/classes.csv``.
 """
 
 from __future__ import annotations
@@ -26,7 +28,8 @@ from common import BENCHMARKS, ROOT, markdown_table, median_seconds, write_csv
 import mazegen
 from mazegen.runtime.engine import Population, Problem
 from mazegen.runtime.geometry import grid_of
-from mazegen.runtime.navigation import floor_topology, navigate, survey
+from mazegen.runtime.navigation import class_counts, floor_topology, navigate, survey
+from mazegen.runtime.threads import threads
 
 COLUMNS = [
     ("operation", "operation", "s"),
@@ -59,7 +62,13 @@ def main() -> None:
     parser.add_argument("--floors", type=int, default=200)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--max-classes", type=int, default=4)
+    parser.add_argument("--threads", type=int, default=2, help="threads the compiled calls use")
     args = parser.parse_args()
+    with threads(args.threads):
+        measure(args)
+
+
+def measure(args: argparse.Namespace) -> None:
     pop = floors_of_a_run(args.floors)
     grid = grid_of(pop.arena)
     search = median_seconds(partial(navigate, pop, grid), repeats=args.repeats)
@@ -67,10 +76,18 @@ def main() -> None:
     rows.append({"operation": "survey (path and difficulty metrics)", "seconds": median_seconds(
         partial(survey, pop), repeats=args.repeats), "classes": None, "at_limit": None})  # fmt: skip
     for limit in (mazegen.spec.MAX_CLASSES, args.max_classes):
+        counted = partial(class_counts, pop, grid, max_classes=limit)
+        numbers = counted()
+        seconds = median_seconds(counted, repeats=args.repeats)
+        rows.append({
+            "operation": f"class counts, one call (at most {limit})", "classes": float(np.mean(numbers)),
+            "seconds": seconds, "at_limit": int(np.sum(numbers == limit)),
+        })  # fmt: skip
+    for limit in (mazegen.spec.MAX_CLASSES, args.max_classes):
         counts = classes_of_all(pop, limit)
         seconds = median_seconds(partial(classes_of_all, pop, limit), repeats=args.repeats, warmup=0)
         at_limit = sum(count == limit for count in counts)
-        name = f"classes (at most {limit})"
+        name = f"classes named, floor by floor (at most {limit})"
         rows.append(
             {"operation": name, "seconds": seconds, "classes": float(np.mean(counts)), "at_limit": at_limit}
         )

@@ -183,6 +183,17 @@ def _plugin_words(term: FitnessTerm) -> str:
     return f"{head} penalty {number(-term.weight)}" if term.weight < 0 else _weighted(head, term)
 
 
+def _classes_call(term: FitnessTerm) -> tuple[str, str]:
+    if term.target is None:
+        return "metrics.classes(pop)", "homotopy classes of the way from start to goal (docs/classes.md)"
+    exactly = int(term.target[0])
+    return f"metrics.classes(pop, {exactly})", f"closeness to exactly {exactly} homotopy classes"
+
+
+def _classes_words(term: FitnessTerm) -> str:
+    return _weighted("classes" if term.target is None else f"classes {int(term.target[0])}", term)
+
+
 _ROWS = (
     TermKind(
         kind="count",
@@ -310,6 +321,16 @@ _ROWS = (
         function="reachable",
         call=_closeness("reachable", "share of the free floor reachable from the start, near its target"),
         words=lambda term: _weighted(f"reachable {_span(term)}", term),
+    ),
+    TermKind(
+        kind="classes",
+        rule="ClassesTerm",
+        syntax="classes [N] [weight W]",
+        reads="path",
+        reward=True,
+        function="classes",
+        call=_classes_call,
+        words=_classes_words,
     ),
     TermKind(
         kind="drive",

@@ -37,6 +37,18 @@ from mazegen.text import printable
     help="Scenarios per batch (default: the spec's population).",
 )
 @click.option(
+    "--measure",
+    type=click.Choice(["elements", "classes"]),
+    default="elements",
+    show_default=True,
+    help="The archive's second axis: element count, or number of homotopy classes (docs/classes.md).",
+)
+@click.option(
+    "--distinct-classes",
+    is_flag=True,
+    help="Write one scenario per canonical class: an elite of a class already written gives way.",
+)
+@click.option(
     "-o",
     "--out",
     type=click.Path(file_okay=False, path_type=Path),
@@ -51,11 +63,14 @@ def suite(
     seed: int | None,
     iterations: int | None,
     batch: int | None,
+    measure: str,
+    distinct_classes: bool,
     out: Path | None,
     force: bool,
     quiet: bool,
 ) -> None:
-    """Fill a MAP-Elites archive (difficulty x element count), write SIZE scenarios spread over it."""
+    """Fill a MAP-Elites archive (difficulty x element count, or number of classes), write SIZE scenarios
+    spread over it."""
     import tempfile
 
     from mazegen.dsl.loader import load_spec
@@ -87,15 +102,19 @@ def suite(
                 seed=seed,
                 iterations=iterations,
                 batch=batch,
+                measure=measure,
                 on_iteration=lambda stats: reporter.generation("suite", stats),
             )
         finally:
             reporter.close()
-        documents = suite_documents(problem, archive, size, seed=seed)
+        documents = suite_documents(problem, archive, size, seed=seed, distinct=distinct_classes)
         chosen = SuiteSettings(seed=seed, iterations=iterations, batch=batch, size=size)
         write_suite(target, problem, archive, documents, chosen, force=force)
     cells = archive.bins.difficulty * archive.bins.elements
     click.echo(f"archive: {archive.filled.size} of {cells} cells filled")
     if len(documents) < size:
-        click.echo(f"only {len(documents)} scenarios: the archive holds no more (try more --iterations)")
+        more = "distinct classes" if distinct_classes else "scenarios"
+        click.echo(
+            f"only {len(documents)} scenarios: the archive holds no more {more} (try more --iterations)"
+        )
     click.echo(f"wrote {len(documents)} scenarios to {printable(str(target))}")

@@ -15,6 +15,7 @@ from mazegen.fitness_terms import TERMS
 from mazegen.spec import (
     CROSSOVER_OPERATORS,
     DIFFICULTY_LEVELS,
+    MAX_CLASSES,
     MAX_CODONS,
     Arena,
     Evolution,
@@ -226,7 +227,15 @@ def _fitness_term(term: Any, elements: tuple[str, ...]) -> FitnessTerm:
         at_most(term, bound, MAX_LENGTH, "travel bound")
         limit = bound
     tasks = getattr(term, "tasks", None) or "mean"
-    return FitnessTerm(kind, weight, limit, reject, _target(term), metric, controllers, tasks=tasks)
+    target = _target(term)
+    exactly = getattr(term, "exactly", None)
+    if exactly is not None:
+        if not 1 <= exactly <= MAX_CLASSES:
+            fail(
+                term, f"classes N counts 1 to {MAX_CLASSES} classes (the most a floor is told), got {exactly}"
+            )
+        target = (float(exactly), float(exactly))
+    return FitnessTerm(kind, weight, limit, reject, target, metric, controllers, tasks=tasks)
 
 
 def _target(term: Any) -> tuple[float, float] | None:

@@ -21,7 +21,14 @@ from mazegen.runtime.engine import SX, SY, Population
 from mazegen.runtime.geometry import ZoneArrays, elements_off_zones, elements_on_walls, grid_of
 from mazegen.runtime.geometry import elements_outside as elements_outside_of
 from mazegen.runtime.geometry import overlapping_pairs as overlapping_pairs_of
-from mazegen.runtime.navigation import navigation_of, reach_of, reachable_of, survey_of, task_views
+from mazegen.runtime.navigation import (
+    class_counts_of,
+    navigation_of,
+    reach_of,
+    reachable_of,
+    survey_of,
+    task_views,
+)
 from mazegen.runtime.plugin_view import Floors
 from mazegen.spec import Robot, Task, robot_for
 
@@ -144,6 +151,15 @@ def reachable(pop: Population) -> np.ndarray:
 def coverage(pop: Population) -> np.ndarray:
     """Fraction of the arena's grid cells the elements occupy."""
     return reach_of(pop).coverage
+
+
+def classes(pop: Population, exactly: int | None = None) -> np.ndarray:
+    """The number of homotopy classes of each floor's way from start to goal (docs/classes.md: at most
+    :data:`~mazegen.spec.MAX_CLASSES`, none longer than :data:`~mazegen.spec.DETOUR` times the shortest;
+    the tasks' mean on a floor of several; 0 without a path), or with ``exactly`` its closeness to that
+    many: ``exp(-|classes - exactly|)``."""
+    counts = class_counts_of(pop)
+    return counts if exactly is None else np.exp(-np.abs(counts - exactly))
 
 
 def closeness(values: np.ndarray, low: float, high: float) -> np.ndarray:

@@ -387,6 +387,11 @@ def test_suite_writes_spread_solvable_scenarios_and_a_heatmap(tmp_path):
     assert (out / "archive.png").is_file() and (out / "scenario-05.svg").is_file()
     again = invoke(*args, "-o", str(out), "--quiet")
     assert again.exit_code == 1 and "already exists" in again.output
+    by_class = invoke(*args, "--measure", "classes", "--distinct-classes", "-o", str(tmp_path / "c"), "-q")
+    assert by_class.exit_code == 0, by_class.output
+    written = [json.loads(path.read_text()) for path in sorted((tmp_path / "c").glob("scenario-*.json"))]
+    assert written and all("classes" in document["origin"]["suite"] for document in written)
+    assert json.loads((tmp_path / "c" / "archive.json").read_text())["bins"]["measure"] == "classes"
 
 
 def test_render_svg_and_png(tmp_path):

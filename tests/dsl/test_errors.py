@@ -243,6 +243,12 @@ BAD_SPECS = [
         "coverage is a fraction of the floor (0..1), got 0.2..1.5",
     ),
     (
+        "classes beyond the most told",
+        spec(tail="fitness { classes 9 weight 2 }\n"),
+        "4:11",
+        "classes N counts 1 to 8 classes (the most a floor is told), got 9",
+    ),
+    (
         "unknown difficulty level",
         spec(tail="fitness { difficulty target extreme }\n"),
         "4:29",

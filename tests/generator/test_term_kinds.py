@@ -31,6 +31,7 @@ fitness {
     coverage 0.1..0.3 weight 4
     travel worst below 2500 weight 2
     reachable 0.9..1
+    classes 3 weight 2
     controllers dwa, vfh disagree weight 2
     controller dwa time 2..4
     metric dock_clearance(x=100) from "dock.py" range 0.5..1.5 weight 2

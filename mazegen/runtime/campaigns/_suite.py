@@ -1,7 +1,8 @@
-"""Graded suites: a MAP-Elites archive over difficulty score and element count.
+"""Graded suites: a MAP-Elites archive over difficulty score and element count (or number of classes).
 
 The archive is a grid: one axis bins the difficulty score (:mod:`difficulty`),
-the other the number of elements. Each cell keeps the fittest solvable scenario
+the other a second measure: the number of elements, or the number of homotopy classes (the
+ways round the obstacles, docs/classes.md). Each cell keeps the fittest solvable scenario
 whose descriptors fall in it (its elite). Filling it (Mouret and Clune, 2015):
 evaluate a random batch, then repeatedly breed a batch from elites drawn
 uniformly from the filled cells (one-point crossover and int-flip mutation, the
@@ -26,24 +27,30 @@ from typing import Any
 
 import numpy as np
 
+from mazegen.errors import MazeError
 from mazegen.fileio import write_atomic
 from mazegen.runtime.documents import SuiteDirectory, dumps, row_document
 from mazegen.runtime.engine import (
     PLACEMENT_GENES,
     Evaluation,
     GenerationStats,
+    Population,
     Problem,
     generation_stats,
     make_children,
     random_codons,
     random_genes,
 )
-from mazegen.runtime.navigation import survey_of
+from mazegen.runtime.geometry import grid_of
+from mazegen.runtime.navigation import class_counts_of, floor_topology, survey_of, task_views
 from mazegen.runtime.reports import scenario_svg
 from mazegen.runtime.runs import json_text, staged_directory
+from mazegen.spec import MAX_CLASSES
 
 DIFFICULTY_BIN = 5.0
 """Width of a difficulty bin in score points; the last bin is open above."""
+MEASURES = ("elements", "classes")
+"""The archive's second measure: a floor's number of elements, or its number of homotopy classes."""
 
 
 @dataclass(frozen=True)
@@ -59,6 +66,11 @@ class Bins:
     difficulty: int
     elements: int
     per_bin: int
+
+    @classmethod
+    def for_classes(cls, *, difficulty: int = 10) -> Bins:
+        """Bins for floors of 1 to :data:`~mazegen.spec.MAX_CLASSES` classes, one bin each."""
+        return cls(difficulty, MAX_CLASSES, 1)
 
     @classmethod
     def for_slots(cls, max_elements: int, *, difficulty: int = 10, elements: int = 16) -> Bins:
@@ -94,14 +106,18 @@ class SuiteSettings:
 
 
 class Archive:
-    """Elites of a :class:`Bins` grid: genome, fitness and descriptors per cell."""
+    """Elites of a :class:`Bins` grid: genome, fitness and descriptors per cell (``measured``: each
+    elite's value of ``measure``, one of :data:`MEASURES`)."""
 
-    def __init__(self, *, bins: Bins, genome: int, slots: int, codon_dtype: np.dtype) -> None:
+    def __init__(
+        self, *, bins: Bins, genome: int, slots: int, codon_dtype: np.dtype, measure: str = "elements"
+    ) -> None:
         cells = bins.difficulty * bins.elements
         self.bins = bins
+        self.measure = measure
         self.fitness = np.full(cells, -np.inf)
         self.difficulty = np.full(cells, np.nan)
-        self.elements = np.zeros(cells, np.int32)
+        self.measured = np.zeros(cells, np.int32)
         self.codons = np.zeros((cells, genome), codon_dtype)
         self.genes = np.zeros((cells, slots, PLACEMENT_GENES), np.uint16)
 
@@ -123,8 +139,8 @@ class Archive:
         if rows.size == 0:
             return 0
         difficulty = survey.difficulty[rows]
-        elements = evaluation.population.n_elements[rows]
-        cells = self.bins.cell(difficulty, elements)
+        measured = self.measured_of(evaluation.population)[rows]
+        cells = self.bins.cell(difficulty, measured)
         order = np.lexsort((rows, -fitness[rows], cells))  # by cell, fittest first, then batch order
         first = np.ones(order.size, bool)
         first[1:] = cells[order][1:] != cells[order][:-1]
@@ -134,10 +150,16 @@ class Archive:
         target, source = cells[best], rows[best]
         self.fitness[target] = fitness[source]
         self.difficulty[target] = difficulty[best]
-        self.elements[target] = elements[best]
+        self.measured[target] = measured[best]
         self.codons[target] = codons[source]
         self.genes[target] = genes[source]
         return int(target.size)
+
+    def measured_of(self, population: Population) -> np.ndarray:
+        """Each floor's value of the archive's measure (classes: the tasks' mean, rounded)."""
+        if self.measure == "classes":
+            return np.rint(class_counts_of(population)).astype(np.int32)
+        return population.n_elements
 
     def spread(self, count: int) -> np.ndarray:
         """Up to ``count`` filled cells spread over the grid: each difficulty bin's fittest first, then
@@ -159,6 +181,7 @@ def fill_archive(
     iterations: int,
     batch: int,
     bins: Bins | None = None,
+    measure: str = "elements",
     on_iteration: Callable[[GenerationStats], None] | None = None,
 ) -> Archive:
     """Fill a MAP-Elites archive for ``problem``: a random batch, then ``iterations`` bred batches.
@@ -168,7 +191,9 @@ def fill_archive(
         seed: Seed of the random generator (same seed, same archive).
         iterations: Batches bred from the archive after the random one.
         batch: Scenarios per batch.
-        bins: The grid (default :meth:`Bins.for_slots` of the spec's ``max elements``).
+        bins: The grid (default :meth:`Bins.for_slots` of the spec's ``max elements``, or
+            :meth:`Bins.for_classes`).
+        measure: The second descriptor, one of :data:`MEASURES`.
         on_iteration: Called after each batch with its statistics.
     """
     settings = problem.spec.evolution
@@ -176,8 +201,11 @@ def fill_archive(
     genome, slots = settings.genome, problem.slots
     codons = random_codons(rng, batch, genome, settings.codon_max)
     genes = random_genes(rng, batch, slots)
+    if measure not in MEASURES:
+        raise MazeError(f"a suite's archive measures {' or '.join(MEASURES)}, not {measure!r}")
+    default = Bins.for_classes() if measure == "classes" else Bins.for_slots(slots)
     archive = Archive(
-        bins=bins or Bins.for_slots(slots), genome=genome, slots=slots, codon_dtype=codons.dtype
+        bins=bins or default, genome=genome, slots=slots, codon_dtype=codons.dtype, measure=measure
     )
     for iteration in range(iterations + 1):
         started = time.perf_counter()
@@ -203,17 +231,40 @@ def fill_archive(
     return archive
 
 
-def suite_documents(problem: Problem, archive: Archive, size: int, *, seed: int) -> list[dict[str, Any]]:
-    """Scenario documents of up to ``size`` elites spread over the archive (see :meth:`Archive.spread`)."""
-    cells = archive.spread(size)
+def suite_documents(
+    problem: Problem, archive: Archive, size: int, *, seed: int, distinct: bool = False
+) -> list[dict[str, Any]]:
+    """Scenario documents of up to ``size`` elites spread over the archive (see :meth:`Archive.spread`);
+    with ``distinct``, one per canonical class (docs/classes.md): an elite of a class already written
+    gives way to the next cell in the spread's order."""
+    cells = archive.spread(archive.filled.size if distinct else size)
     codons, genes = archive.codons[cells], archive.genes[cells]
     evaluation = problem.evaluate(codons, genes)
+    rows = distinct_rows(evaluation.population, size) if distinct else range(len(cells))
     documents = []
-    for row, cell in enumerate(cells.tolist()):
-        difficulty, elements = archive.bins.label(cell)
-        origin = {"seed": seed, "suite": {"cell": cell, "difficulty": difficulty, "elements": elements}}
+    for row in rows:
+        cell = int(cells[row])
+        difficulty, measured = archive.bins.label(cell)
+        origin = {"seed": seed, "suite": {"cell": cell, "difficulty": difficulty, archive.measure: measured}}
         documents.append(row_document(problem, evaluation, row, codons[row], genes[row], origin))
     return documents
+
+
+def distinct_rows(population: Population, size: int) -> list[int]:
+    """Up to ``size`` floors of ``population``, in order, each of a canonical class (every task's) no
+    floor before it has."""
+    views = task_views(population)
+    grids = [grid_of(view.arena) for view in views]
+    seen: set[tuple[str, ...]] = set()
+    rows = []
+    for row in range(population.size):
+        signature = tuple(floor_topology(view, grid, row).signature for view, grid in zip(views, grids))
+        if signature not in seen:
+            seen.add(signature)
+            rows.append(row)
+            if len(rows) == size:
+                break
+    return rows
 
 
 def archive_heatmap(archive: Archive, chosen: np.ndarray, title: str) -> bytes:
@@ -236,7 +287,7 @@ def archive_heatmap(archive: Archive, chosen: np.ndarray, title: str) -> bytes:
     axes.set_yticks(
         range(bins.difficulty), [bins.label(r * bins.elements)[0] for r in range(bins.difficulty)]
     )
-    axes.set_xlabel("elements")
+    axes.set_xlabel("homotopy classes" if archive.measure == "classes" else "elements")
     axes.set_ylabel("difficulty score")
     axes.set_title(f"{title}: {archive.filled.size} of {grid.size} cells filled")
     figure.tight_layout()
@@ -262,17 +313,17 @@ def write_suite(
     record = {
         "scenario": problem.spec.name,
         "settings": dataclasses.asdict(settings),
-        "bins": {"difficulty": bins.difficulty, "difficulty_width": DIFFICULTY_BIN, "elements": bins.elements,
-                 "elements_per_bin": bins.per_bin},
+        "bins": {"difficulty": bins.difficulty, "difficulty_width": DIFFICULTY_BIN,
+                 "measure": archive.measure, "elements": bins.elements, "elements_per_bin": bins.per_bin},
         "filled": int(filled.size),
         "cells": [
             {
                 "cell": int(cell),
                 "difficulty_bin": bins.label(int(cell))[0],
-                "elements_bin": bins.label(int(cell))[1],
+                f"{archive.measure}_bin": bins.label(int(cell))[1],
                 "fitness": float(archive.fitness[cell]),
                 "difficulty": round(float(archive.difficulty[cell]), 4),
-                "elements": int(archive.elements[cell]),
+                archive.measure: int(archive.measured[cell]),
             }
             for cell in filled
         ],

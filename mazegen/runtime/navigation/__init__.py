@@ -10,10 +10,12 @@ from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
     from mazegen.runtime.navigation._calibration import spearman
+    from mazegen.runtime.navigation._class_counts import class_counts
     from mazegen.runtime.navigation._classes import PathClass, Topology, floor_topology, topology
     from mazegen.runtime.navigation._connectivity import Reach, reach
     from mazegen.runtime.navigation._difficulty import Survey, survey
     from mazegen.runtime.navigation._measures import (
+        class_counts_of,
         corner_paths_of,
         navigation_of,
         reach_of,
@@ -39,6 +41,8 @@ __all__ = [
     "Reach",
     "Survey",
     "Topology",
+    "class_counts",
+    "class_counts_of",
     "copy_points",
     "corner_paths_of",
     "floor_topology",
@@ -64,10 +68,12 @@ __getattr__ = lazy_names(
     __name__,
     {
         "_calibration": ["spearman"],
+        "_class_counts": ["class_counts"],
         "_classes": ["floor_topology", "PathClass", "Topology", "topology"],
         "_connectivity": ["Reach", "reach"],
         "_difficulty": ["Survey", "survey"],
         "_measures": [
+            "class_counts_of",
             "corner_paths_of",
             "navigation_of",
             "reach_of",

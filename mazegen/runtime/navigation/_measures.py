@@ -16,6 +16,7 @@ import numpy as np
 
 from mazegen.runtime.engine import Population
 from mazegen.runtime.geometry import grid_of
+from mazegen.runtime.navigation._class_counts import class_counts
 from mazegen.runtime.navigation._connectivity import Reach, reach, reachable
 from mazegen.runtime.navigation._difficulty import Survey, survey
 from mazegen.runtime.navigation._paths import Navigation, navigate, paths_of
@@ -78,6 +79,16 @@ def reachable_of(pop: Population) -> np.ndarray:
     """The share of every floor's free cells the robot can reach from its (first task's) start."""
     first = task_views(pop)[0]
     return _once(first, "reachable", lambda: reachable(first, grid_of(first.arena)))
+
+
+def class_counts_of(pop: Population) -> np.ndarray:
+    """``float64[N]``: the number of homotopy classes of every floor (the tasks' mean on a floor of
+    several; :func:`~mazegen.runtime.navigation._class_counts.class_counts`)."""
+
+    def counts(view: Population) -> np.ndarray:
+        return _once(view, "classes", lambda: class_counts(view, grid_of(view.arena)))
+
+    return np.mean(np.stack([counts(view) for view in task_views(pop)]), axis=0)
 
 
 def survey_of(pop: Population) -> Survey:

@@ -16,7 +16,7 @@ from mazegen.runtime.campaigns._suite import (
     write_suite,
 )
 from mazegen.runtime.engine._problem import Problem
-from mazegen.runtime.navigation._measures import survey_of
+from mazegen.runtime.navigation._measures import class_counts_of, survey_of
 from tests.conftest import EXAMPLES
 from tests.runtime.floors import geometrically_solvable
 
@@ -74,3 +74,27 @@ def test_archive_keeps_the_fittest_per_cell_and_suites_spread_over_it(tmp_path):
     record = json.loads((tmp_path / "suite" / "archive.json").read_text())
     assert record["filled"] == filled.size == len(record["cells"])
     assert record["settings"] == {"seed": 3, "iterations": 6, "batch": 400, "size": 8}
+
+
+def test_an_archive_over_classes_bins_each_elite_by_its_classes_and_a_suite_keeps_one_per_class(tmp_path):
+    problem = workshop_problem(tmp_path)
+    archive = fill_archive(problem, seed=5, iterations=2, batch=200, measure="classes")
+    filled = archive.filled
+    evaluation = problem.evaluate(archive.codons[filled], archive.genes[filled])
+    counts = np.rint(class_counts_of(evaluation.population))
+    assert np.array_equal(archive.bins.cell(survey_of(evaluation.population).difficulty, counts), filled)
+    assert np.array_equal(archive.measured[filled], counts) and len(set(counts.tolist())) >= 3
+
+    every = suite_documents(problem, archive, filled.size, seed=5)
+    signatures = [floor.signature for floor in mazegen.classes(every, spec=problem.spec).floors]
+    distinct = suite_documents(problem, archive, filled.size, seed=5, distinct=True)
+    assert len(distinct) == len(set(signatures)) < len(every)  # some elites share a class
+    kept = [floor.signature for floor in mazegen.classes(distinct, spec=problem.spec).floors]
+    assert kept == list(dict.fromkeys(signatures))  # the first elite of each class, in the spread's order
+    assert all(document["origin"]["suite"]["classes"] for document in distinct)
+
+    settings = SuiteSettings(seed=5, iterations=2, batch=200, size=len(distinct))
+    write_suite(tmp_path / "suite", problem, archive, distinct, settings, force=False)
+    record = json.loads((tmp_path / "suite" / "archive.json").read_text())
+    assert record["bins"]["measure"] == "classes"
+    assert all(cell["classes"] == int(archive.measured[cell["cell"]]) for cell in record["cells"])
