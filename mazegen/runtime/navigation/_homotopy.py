@@ -17,11 +17,13 @@ the search is a rectangle and the signature a path has on that rectangle's first
 **Search.** A* over states, a rectangle entered where the line from the previous entry towards the
 goal crosses the shared edge (as :mod:`._paths` does), lowest estimate first. A count of two in one
 direction (a path winding around a hole) is not followed. Each state of the goal's rectangle that is
-settled gives the goal a signature, until :data:`GOAL_STATES_PER_CLASS` times ``max_classes`` of them or
-an estimate beyond :data:`OVERSHOOT` times ``detour`` times the first. Each one's corridor of
-rectangles is pulled taut by the funnel algorithm into its shortest path, whose side of each hole
-names its class (:func:`~mazegen.runtime.navigation._sides.sides`): the caller keeps the shortest
-path of each class and the classes within ``detour`` of the shortest.
+settled gives the goal a signature. Its corridor of rectangles is pulled taut at once by the funnel
+algorithm into its shortest path, whose side of each hole names its class
+(:func:`~mazegen.runtime.navigation._sides.sides`); a class keeps its shortest path. The search ends
+after :data:`GOAL_STATES_PER_CLASS` times ``max_classes`` signatures, or at an estimate beyond
+:data:`OVERSHOOT` times the length still wanted: ``detour`` times the shortest class, or the
+``max_classes``-th shortest once that many are found. The caller keeps the classes within ``detour``
+of the shortest, at most ``max_classes``.
 """
 
 from __future__ import annotations
@@ -61,8 +63,8 @@ RECT, PREVIOUS, NEXT, SETTLED = 0, 1, 2, 3  # columns of their int array
 OVERSHOOT = 1.5
 """How much longer than a corridor's shortest path the search's estimate of it may be: its entry points
 are chosen greedily, one edge at a time, so a corridor around obstacles is estimated long. The search
-settles goal states up to ``detour * OVERSHOOT`` times the first estimate (plus ``SLACK``), and the
-lengths the funnel gives decide."""
+settles states up to ``OVERSHOOT`` times the length still wanted (plus ``SLACK``), and the lengths the
+funnel gives decide."""
 SLACK = 2.0
 """Cells of estimate beyond that bound the search still settles: its queue is bucketed by whole cells."""
 GOAL_STATES_PER_CLASS = 4

@@ -22,7 +22,7 @@ SEVERAL = dataclasses.replace(ARENA, start=TASKS[0].start, goal=TASKS[0].goal, t
 
 @pytest.fixture(scope="module")
 def floors() -> list[list[tuple]]:
-    return [*random_floors(np.random.default_rng(11), 40, ARENA), ZIGZAG, BLOCKED, []]
+    return [*random_floors(np.random.default_rng(11), 24, ARENA), ZIGZAG, BLOCKED, []]
 
 
 def test_the_counts_are_those_of_the_classes_named_floor_by_floor(floors):
