@@ -16,6 +16,7 @@ from numba import njit
 from mazegen.runtime.geometry import cspace, grid_args, raster_arrays
 from mazegen.runtime.navigation._homotopy import (
     GOAL_STATES_PER_CLASS,
+    LENGTH_TOLERANCE,
     MAX_HOLES,
     class_scratch,
     floor_classes,
@@ -27,9 +28,6 @@ from mazegen.spec import DETOUR, MAX_CLASSES
 if TYPE_CHECKING:
     from mazegen.runtime.engine import Population
     from mazegen.runtime.geometry import Grid
-
-LENGTH_TOLERANCE = 1e-9
-"""Relative slack of the detour test, as :func:`~mazegen.runtime.navigation._classes.topology` allows."""
 
 
 def class_counts(
@@ -70,6 +68,8 @@ def _count_all(
         if found == 0:
             continue
         shortest = lengths[:found].min()
+        if not shortest < np.inf:  # every corridor too winding to pull taut
+            continue
         kept = 0
         for k in range(found):
             if lengths[k] <= detour * shortest * (1.0 + LENGTH_TOLERANCE):

@@ -25,6 +25,7 @@ import numpy as np
 
 from mazegen.runtime.navigation._homotopy import (
     GOAL_STATES_PER_CLASS,
+    LENGTH_TOLERANCE,
     MAX_HOLES,
     class_scratch,
     floor_classes,
@@ -160,7 +161,7 @@ def topology(
     for k in range(found):
         length = float(lengths[k]) * cell
         key = tuple(keys[k, :holes].tolist())
-        if length > detour * shortest + 1e-9:
+        if not length <= detour * shortest * (1.0 + LENGTH_TOLERANCE):  # (inf: a corridor not pulled)
             continue
         points = paths[k, : turns[k]] * cell
         points[0], points[-1] = ends

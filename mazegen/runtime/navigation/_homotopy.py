@@ -50,7 +50,7 @@ from mazegen.runtime.geometry import (
     row_runs_of,
     runs_per_row,
 )
-from mazegen.runtime.navigation._paths import funnel
+from mazegen.runtime.navigation._paths import aim_across, dequeue, enqueue, funnel
 from mazegen.runtime.navigation._sides import sides
 
 MAX_HOLES = 64
@@ -67,6 +67,9 @@ settles states up to ``OVERSHOOT`` times the length still wanted (plus ``SLACK``
 funnel gives decide."""
 SLACK = 2.0
 """Cells of estimate beyond that bound the search still settles: its queue is bucketed by whole cells."""
+LENGTH_TOLERANCE = 1e-9
+"""Relative slack of the detour test (a class as long as ``detour`` times the shortest is kept), the
+same in every caller."""
 GOAL_STATES_PER_CLASS = 4
 """Goal states (signatures) kept per class sought: two signatures may be one class (a loop around an
 obstacle both ways), and the funnel's lengths order them."""
@@ -234,17 +237,13 @@ def _search(
     lowest = min(int(math.sqrt((gx - sx) * (gx - sx) + (gy - sy) * (gy - sy))), last)
     first_used = highest = lowest
     n_states = _add_state(start, plus, minus, 0.0, sx, sy, -1, 0, state, links, masks, first_of)
-    used = _push(heads, entries, 0, lowest, 0)
+    used = enqueue(heads, entries, 0, lowest, 0)
     bound = math.inf
     classes = goals = 0
     while True:
-        while lowest <= highest and heads[lowest] < 0:
-            lowest += 1
-        if lowest > highest:
+        lowest, s = dequeue(heads, entries, lowest, highest)
+        if s < 0:
             break
-        taken = heads[lowest]
-        heads[lowest] = entries[taken, 0]
-        s = entries[taken, 1]
         if links[s, SETTLED]:
             continue
         links[s, SETTLED] = 1
@@ -267,9 +266,7 @@ def _search(
             first = rects[here, UP_FIRST] if up else rects[here, DOWN_FIRST]
             n = rects[here, UP_COUNT] if up else rects[here, DOWN_COUNT]
             y = float(rects[here, LAST_ROW] + 1 if up else rects[here, FIRST_ROW])
-            aim = ex
-            if (gy - ey) * (y - ey) > 0.0 and abs(gy - ey) >= abs(y - ey):
-                aim = ex + (gx - ex) * (y - ey) / (gy - ey)
+            aim = aim_across(ex, ey, gx, gy, y)
             lo_here, hi_here = rects[here, FIRST_COL], rects[here, LAST_COL] + 1
             for e in range(first, first + n):
                 q = edges[e, ABOVE] if up else edges[e, BELOW]
@@ -303,7 +300,7 @@ def _search(
                 if used == entries.shape[0]:
                     continue
                 bucket = min(int(reached + math.sqrt((gx - x) * (gx - x) + (gy - y) * (gy - y))), last)
-                used = _push(heads, entries, used, bucket, t)
+                used = enqueue(heads, entries, used, bucket, t)
                 lowest = min(lowest, bucket)
                 first_used = min(first_used, bucket)
                 highest = max(highest, bucket)
@@ -368,35 +365,21 @@ def _add_state(q, plus, minus, cost, x, y, previous, n, state, links, masks, fir
     return n + 1
 
 
-@njit(cache=True, inline="always")
-def _push(heads, entries, used, bucket, s):  # pragma: no cover - compiled
-    entries[used, 0] = heads[bucket]
-    entries[used, 1] = s
-    heads[bucket] = used
-    return used + 1
-
-
 @inner_kernel
 def _crossed(plus, minus, row, to_row, col, rays, holes):  # pragma: no cover - compiled
     """The signature ``(plus, minus)`` after moving from row ``row`` to row ``to_row`` in columns from
     ``col`` on: each ray between the two (a ray of row ``r`` runs under it) left of ``col`` counts
     +1 upward, -1 downward; ``ok`` False where a count reaches two."""
+    up = to_row > row
+    ahead, back = (plus, minus) if up else (minus, plus)  # the counts in the move's direction, and against
     lo, hi = min(row, to_row), max(row, to_row)
     for h in range(holes):
         if lo < rays[h, 0] <= hi and col > rays[h, 1]:
             bit = np.uint64(1) << np.uint64(h)
-            if to_row > row:
-                if plus & bit:
-                    return plus, minus, False
-                if minus & bit:
-                    minus &= ~bit
-                else:
-                    plus |= bit
+            if ahead & bit:
+                return plus, minus, False
+            if back & bit:
+                back &= ~bit
             else:
-                if minus & bit:
-                    return plus, minus, False
-                if plus & bit:
-                    plus &= ~bit
-                else:
-                    minus |= bit
-    return plus, minus, True
+                ahead |= bit
+    return (ahead, back, True) if up else (back, ahead, True)

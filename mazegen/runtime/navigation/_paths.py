@@ -267,15 +267,11 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
     last = heads.shape[0] - 1
     lowest = min(int(math.sqrt((gx - sx) * (gx - sx) + (gy - sy) * (gy - sy))), last)
     first_used = highest = lowest
-    used = _enqueue(heads, entries, 0, lowest, start)
+    used = enqueue(heads, entries, 0, lowest, start)
     while True:
-        while lowest <= highest and heads[lowest] < 0:
-            lowest += 1
-        if lowest > highest:
+        lowest, here = dequeue(heads, entries, lowest, highest)
+        if here < 0:
             break
-        taken = heads[lowest]
-        heads[lowest] = entries[taken, 0]
-        here = entries[taken, 1]
         if marks[here, SETTLED]:
             continue
         marks[here, SETTLED] = 1
@@ -286,11 +282,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
             first = rects[here, UP_FIRST] if side == 0 else rects[here, DOWN_FIRST]
             n = rects[here, UP_COUNT] if side == 0 else rects[here, DOWN_COUNT]
             y = float(rects[here, LAST_ROW] + 1 if side == 0 else rects[here, FIRST_ROW])
-            # Cross the shared edge where the line from the entry point towards the goal
-            # does (straight on when the goal is not ahead), clamped to the edge.
-            aim = ex
-            if (gy - ey) * (y - ey) > 0.0 and abs(gy - ey) >= abs(y - ey):
-                aim = ex + (gx - ex) * (y - ey) / (gy - ey)
+            aim = aim_across(ex, ey, gx, gy, y)
             rise = (y - ey) * (y - ey)
             rise_to_goal = (gy - y) * (gy - y)
             lo_here = rects[here, FIRST_COL]
@@ -306,7 +298,7 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
                     state[q, COST], state[q, X], state[q, Y] = reached, x, y
                     marks[q, PREVIOUS] = here
                     bucket = min(int(reached + math.sqrt((gx - x) * (gx - x) + rise_to_goal)), last)
-                    used = _enqueue(heads, entries, used, bucket, q)
+                    used = enqueue(heads, entries, used, bucket, q)
                     lowest = min(lowest, bucket)
                     first_used = min(first_used, bucket)
                     highest = max(highest, bucket)
@@ -327,11 +319,36 @@ def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  
 
 
 @njit(cache=True, inline="always")
-def _enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
+def enqueue(heads, entries, used, bucket, node):  # pragma: no cover - compiled
+    """Push ``node`` into ``bucket`` of a bucket queue (``heads``: each bucket's last entry, -1 empty;
+    ``entries``: the next entry in its bucket and the node); returns the entries used."""
     entries[used, 0] = heads[bucket]
     entries[used, 1] = node
     heads[bucket] = used
     return used + 1
+
+
+@njit(cache=True, inline="always")
+def dequeue(heads, entries, lowest, highest):  # pragma: no cover - compiled
+    """Pop the last entry of the lowest non-empty bucket from ``lowest`` to ``highest``: (that bucket,
+    its node), the node -1 when the queue is empty."""
+    while lowest <= highest and heads[lowest] < 0:
+        lowest += 1
+    if lowest > highest:
+        return lowest, -1
+    taken = heads[lowest]
+    heads[lowest] = entries[taken, 0]
+    return lowest, entries[taken, 1]
+
+
+@njit(cache=True, inline="always")
+def aim_across(ex, ey, gx, gy, y):  # pragma: no cover - compiled
+    """Where to cross the edge at row line ``y`` from the entry point ``(ex, ey)``: where the line
+    towards the goal ``(gx, gy)`` crosses it, straight on when the goal is not ahead (the caller
+    clamps it to the edge)."""
+    if (gy - ey) * (y - ey) > 0.0 and abs(gy - ey) >= abs(y - ey):
+        return ex + (gx - ex) * (y - ey) / (gy - ey)
+    return ex
 
 
 @njit(cache=True)
