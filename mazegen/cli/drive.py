@@ -115,6 +115,7 @@ def drive(
         files = source_files(sources)
         loaded, failed = load_floors(files, resolved, driving=True)
         with noting_compiles(say, "drive", DRIVE_SECONDS):
+            compile_ahead(loaded, names)
             floors_of, drives = drive_floors(
                 loaded, names, no_path=lambda file, batch, task: say(no_path_line(file, batch, task))
             )
@@ -131,6 +132,21 @@ def drive(
             _write(floors_of, drives, dict(files), out)
     if failed:
         raise SystemExit(1)
+
+
+def compile_ahead(floors: Sequence[Floor], controllers: Sequence[str]) -> None:
+    """Before a first drive of bundled ``controllers``, compile its kernels on two cores at once
+    (:func:`mazegen.runtime.runs.compile_drive_kernels`); nothing when their loops are cached. Here
+    rather than in the API, as a first run's: a helper process imports the program's main module."""
+    from mazegen.runtime import CONTROLLER_KERNELS, kernels_cached
+    from mazegen.runtime.runs import compile_drive_kernels
+
+    bundled = [name for name in controllers if name in CONTROLLER_KERNELS]
+    spec = next((floor.spec for floor in floors if floor.spec is not None), None)
+    if spec is None or not bundled or kernels_cached(tuple(CONTROLLER_KERNELS[name] for name in bundled)):
+        return
+    with contextlib.suppress(MazeError):  # the drive says what keeps the floors from driving
+        compile_drive_kernels(spec, bundled)
 
 
 def no_path_line(file: str, floors: Floors, task: Task | None) -> str:

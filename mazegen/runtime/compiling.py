@@ -20,14 +20,15 @@ inner_kernel = njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-ov
 """The decorator of a kernel that only other kernels call: compiled without the wrapper that lets
 Python call it, which a first run would spend seconds on (docs/architecture.md, Compiling)."""
 
-RUN_SECONDS = 75
+RUN_SECONDS = 40
 """Seconds a first run waits for its kernels, at most, on a quiet 2-core machine (``benchmarks/startup.py``
-measured 39 s for ``mazegen run``, which compiles on both cores, 72 s for a run of the Python API,
+measured 18–22 s for ``mazegen run``, which compiles on both cores, 34–36 s for a run of the Python API,
 ``resume`` or ``sweep``, which compile on one)."""
 
-DRIVE_SECONDS = 50
-"""Seconds a first drive with one bundled controller waits, at most, likewise (15–25 s measured quiet;
-``movebase``, the largest, 44–48 s at load 1.0–1.5, where ``dwa`` took 33–36)."""
+DRIVE_SECONDS = 20
+"""Seconds a first drive with one bundled controller waits, at most, likewise (7–13 s measured quiet for
+``mazegen drive``, which compiles on both cores; ``movebase``, the largest, about 16 s in one process, as
+``score``, ``classes`` and the Python API compile)."""
 
 
 def compile_note(work: str, seconds: int) -> str:

@@ -526,3 +526,19 @@ def test_two_sources_that_would_write_one_file_are_refused_before_any_is_written
     assert sorted(path.relative_to(out).as_posix() for path in out.rglob("*.json")) == [
         f"{folder}/scenario-{number:02d}.json" for folder in ("other", "suite") for number in (1, 2, 3)
     ]
+
+
+def test_a_first_drive_compiles_its_bundled_controllers_ahead_and_a_later_one_does_not(suite, monkeypatch):
+    import mazegen.runtime
+    import mazegen.runtime.runs as runs
+
+    fake_drive(monkeypatch)
+    ahead: list[tuple] = []
+    monkeypatch.setattr(runs, "compile_drive_kernels", lambda spec, names: ahead.append((spec.name, names)))
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): False)
+    monkeypatch.syspath_prepend(str(EXAMPLES / "policies"))
+    assert invoke(str(suite), "-c", "dwa", "-c", "gap_seeking:policy", "-c", "vfh").exit_code == 0
+    assert ahead == [("factory", ["dwa", "vfh"])]  # a user's policy is not compiled ahead
+    monkeypatch.setattr(mazegen.runtime, "kernels_cached", lambda kernels=(): True)
+    assert invoke(str(suite), "-c", "dwa").exit_code == 0
+    assert len(ahead) == 1

@@ -206,7 +206,7 @@ def _make_children(
         uo.splice_pairs(codons, genes, parents, crosses, first, second, element_codons, out_codons, out_genes)
     if mutating is not None:
         rate, scale, codon_max, drawn_as = mutating
-        _mutate(rng, out_codons, out_genes, rate, scale, codon_max, drawn_as, _NO_ROWS, _NO_ROWS)
+        _mutate(rng, out_codons, out_genes, rate, scale, codon_max, drawn_as, None, None)
 
 
 @njit(cache=True)

@@ -154,8 +154,11 @@ def draw_hits(rng, total, rate, scale):  # pragma: no cover - compiled
     """
     if rate <= 0 or total == 0:
         return np.empty(0, dtype=np.int64)
-    if rate >= 1:
-        return np.arange(total)
+    if rate >= 1:  # every position (a loop: numba's arange compiles for a third of a second)
+        every = np.empty(total, dtype=np.int64)
+        for k in range(total):
+            every[k] = k
+        return every
     batch = int(total * rate * 1.1) + 16
     hits = np.empty(batch, dtype=np.int64)
     found, position = 0, -1
@@ -199,10 +202,9 @@ def mutation_draws(
     New values are uniform in ``0..codon_max`` for codons and ``0..GENE_MAX`` for genes,
     drawn in the narrowest integer type that holds them (narrow draws are several times faster).
     """
-    no_usage = np.empty(0, dtype=np.int64)
     codons = (codon_max, codon_type(codon_max))
     return MutationDraws(
-        *draw_mutation(rng, children, length, slots, rate, gap_scale(rate), *codons, no_usage, no_usage)
+        *draw_mutation(rng, children, length, slots, rate, gap_scale(rate), *codons, None, None)
     )
 
 
@@ -218,18 +220,19 @@ def draw_mutation(
     rng, children, length, slots, rate, scale, codon_max, drawn_as, used_codons, used_rows
 ):  # pragma: no cover - compiled
     """The compiled :func:`mutation_draws`, or, given each child's used codons and element rows
-    (``used_codons``, ``used_rows``; empty for whole genomes), the mutation within them.
+    (``used_codons``, ``used_rows``; None for whole genomes, which compiles without them), the
+    mutation within them.
 
     Hits are drawn over whole rows and those past the used part dropped before the values are
     drawn: each used position is still hit with probability ``rate``, independently.
     """
     codon_hits = draw_hits(rng, children * length, rate, scale)
-    if used_codons.size:
+    if used_codons is not None:
         codon_hits = codon_hits[codon_hits % length < used_codons[codon_hits // length]]
     codon_values = rng.integers(0, codon_max, size=codon_hits.shape[0], dtype=drawn_as, endpoint=True)
     row = slots * PLACEMENT_GENES
     gene_hits = draw_hits(rng, children * row, rate, scale)
-    if used_rows.size:
+    if used_rows is not None:
         gene_hits = gene_hits[gene_hits % row // PLACEMENT_GENES < used_rows[gene_hits // row]]
     gene_values = rng.integers(0, GENE_MAX, size=gene_hits.shape[0], dtype=np.uint16, endpoint=True)
     return codon_hits, codon_values.astype(np.int32), gene_hits, gene_values

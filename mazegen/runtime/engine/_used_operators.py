@@ -29,6 +29,7 @@ import numpy as np
 from numba import njit
 from numba.np.random.random_methods import buffered_bounded_lemire_uint32 as lemire_uint32
 
+from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.engine._mapping import PopulationMap
 from mazegen.runtime.engine._operators import MutationDraws, codon_type, copy_span, draw_mutation, gap_scale
 from mazegen.runtime.engine._placement import PLACEMENT_GENES
@@ -212,13 +213,14 @@ def splice_pairs(
             cut_a, cut_b = first_cut[p], second_cut[p]
             rows_a = _elements_within(element_codons[a], cut_a)
             rows_b = _elements_within(element_codons[b], cut_b)
-        _splice(codons, a, b, cut_a, cut_b, out_codons, 2 * p)
-        _splice(codons, b, a, cut_b, cut_a, out_codons, 2 * p + 1)
-        _splice(genes, a, b, rows_a * PLACEMENT_GENES, rows_b * PLACEMENT_GENES, out_genes, 2 * p)
-        _splice(genes, b, a, rows_b * PLACEMENT_GENES, rows_a * PLACEMENT_GENES, out_genes, 2 * p + 1)
+        _splice_rows(codons, a, b, cut_a, cut_b, out_codons, 2 * p)
+        _splice_rows(codons, b, a, cut_b, cut_a, out_codons, 2 * p + 1)
+        _splice_rows(genes, a, b, rows_a * PLACEMENT_GENES, rows_b * PLACEMENT_GENES, out_genes, 2 * p)
+        _splice_rows(genes, b, a, rows_b * PLACEMENT_GENES, rows_a * PLACEMENT_GENES, out_genes, 2 * p + 1)
     if children % 2:
-        _splice(codons, parents[children - 1], 0, length, length, out_codons, children - 1)
-        _splice(genes, parents[children - 1], 0, genes.shape[1], genes.shape[1], out_genes, children - 1)
+        last = parents[children - 1]
+        _splice_rows(codons, last, last, length, length, out_codons, children - 1)
+        _splice_rows(genes, last, last, genes.shape[1], genes.shape[1], out_genes, children - 1)
 
 
 @njit(cache=True, inline="always")
@@ -230,8 +232,8 @@ def _elements_within(element_codons, cut):  # pragma: no cover - compiled
     return count
 
 
-@njit(cache=True, inline="always")
-def _splice(source, head, tail, head_cut, tail_cut, out, row):  # pragma: no cover - compiled
+@inner_kernel  # not inlined: six copies of its three loops compiled for seconds
+def _splice_rows(source, head, tail, head_cut, tail_cut, out, row):  # pragma: no cover - compiled
     """``out[row]``: ``source[head]`` up to ``head_cut``, ``source[tail]`` from ``tail_cut`` for as
     long as both fit the width, and ``source[head]``'s own values in what is left."""
     width = source.shape[1]

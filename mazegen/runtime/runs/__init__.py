@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     from mazegen.runtime.runs._progress import FIRST_COMPILE_NOTE, Reporter, reporter_for
     from mazegen.runtime.runs._results import json_text, RunDirectoryWriter, staged_directory
     from mazegen.runtime.runs._resumable import resumable_experiment
-    from mazegen.runtime.runs._warmup import compile_kernels
+    from mazegen.runtime.runs._warmup import compile_drive_kernels, compile_kernels
 
 __all__ = [
     "BUILD_FILES",
@@ -33,6 +33,7 @@ __all__ = [
     "RunsInterrupted",
     "SerialExecutor",
     "closing_lines",
+    "compile_drive_kernels",
     "compile_kernels",
     "default_run_dir",
     "executor_for",
@@ -59,6 +60,6 @@ __getattr__ = lazy_names(
         "_progress": ["FIRST_COMPILE_NOTE", "Reporter", "reporter_for"],
         "_results": ["json_text", "RunDirectoryWriter", "staged_directory"],
         "_resumable": ["resumable_experiment"],
-        "_warmup": ["compile_kernels"],
+        "_warmup": ["compile_drive_kernels", "compile_kernels"],
     },
 )

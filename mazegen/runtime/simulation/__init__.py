@@ -10,7 +10,13 @@ from typing import TYPE_CHECKING
 from mazegen.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mazegen.runtime.simulation._drive import DriveRequest, drive, drive_many
+    from mazegen.runtime.simulation._drive import (
+        DriveRequest,
+        compile_loop,
+        compile_set_up,
+        drive,
+        drive_many,
+    )
     from mazegen.runtime.simulation._episodes import (
         ARRIVED,
         COLLISION,
@@ -39,6 +45,8 @@ __all__ = [
     "Slots",
     "barn_score",
     "beam_angles",
+    "compile_loop",
+    "compile_set_up",
     "drive",
     "drive_many",
     "level_rows",
@@ -47,7 +55,7 @@ __all__ = [
 __getattr__ = lazy_names(
     __name__,
     {
-        "_drive": ["drive", "drive_many", "DriveRequest"],
+        "_drive": ["compile_loop", "compile_set_up", "drive", "drive_many", "DriveRequest"],
         "_episodes": ["ARRIVED", "barn_score", "COLLISION", "Episodes", "NO_PATH", "OUTCOMES", "TIMEOUT"],
         "_levels": ["LevelRows", "level_rows"],
         "_lidar": ["beam_angles"],

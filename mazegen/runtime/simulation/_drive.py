@@ -144,13 +144,36 @@ def _own(episodes: Episodes, a: int, b: int, plan: _Plan, record: bool) -> Episo
     )
 
 
-def _run_to_the_end(state: DriveState) -> None:
-    """Run every episode of ``state`` to its end, with the loop its controller needs."""
+def _run_to_the_end(state: DriveState, loop: Callable[[DriveState, tuple], None] = run_bundled) -> None:
+    """Run every episode of ``state`` to its end, with the loop its controller needs (a bundled
+    controller's is ``loop``, given the state and its fields)."""
     choice = state.choice
     if choice.policy is not None:
         run_policy(state, choice.policy)
     elif FIELDS in choice.reads or COSTMAP in choice.reads:
-        _run_with_fields(state)
+        _run_with_fields(state, loop)
+    else:
+        loop(state, _NO_FIELDS)
+
+
+def compile_set_up(population: Population, robot: Robot, controller: str) -> None:
+    """Compile what a drive of bundled ``controller`` over ``population``'s floors calls before its
+    episode loop (the paths, the parts, the starts, the fields or costmaps), by setting up those floors
+    and building their fields, without driving them: half of a first drive's compiling, which
+    :func:`compile_loop` leaves to another process."""
+    _run_to_the_end(set_up(population, robot, controller, None, None, False), lambda state, fields: None)
+
+
+def compile_loop(population: Population, robot: Robot, controller: str) -> None:
+    """Compile the episode loop a drive of bundled ``controller`` over ``population``'s floors runs,
+    with the very types a drive gives it (those of a drive of no floor), and nothing else: no floor is
+    set up, so none of :func:`compile_set_up`'s kernels is called."""
+    state = set_up(population, robot, controller, np.zeros(0, np.int64), None, False)
+    reads = state.choice.reads
+    if COSTMAP in reads:
+        run_bundled(state, joined_fields([costmap_fields(population, state.choice.params, state.rows)]))
+    elif FIELDS in reads:
+        run_bundled(state, joined_fields([floor_fields(population, robot, state.rows)]))
     else:
         run_bundled(state, _NO_FIELDS)
 
@@ -165,8 +188,8 @@ three float32 layers a floor's fields hold take 130 to 200 MB, so a drive over m
 chunk's, not all of them."""
 
 
-def _run_with_fields(state: DriveState) -> None:
-    """Drive chunk after chunk of floors, each with the fields of its floors."""
+def _run_with_fields(state: DriveState, loop: Callable[[DriveState, tuple], None]) -> None:
+    """Drive chunk after chunk of floors with ``loop``, each with the fields of its floors."""
     costmap = COSTMAP in state.choice.reads
     cells = np.concatenate(
         [np.full(len(g.rows), _cells(g, params, costmap)) for g, params in _group_params(state)]
@@ -179,7 +202,7 @@ def _run_with_fields(state: DriveState) -> None:
             fields = [costmap_fields(g.population, params, g.rows) for g, params in _group_params(part)]
         else:
             fields = [floor_fields(g.population, g.robot, g.rows) for g in part.groups]
-        run_bundled(part, joined_fields(fields))
+        loop(part, joined_fields(fields))
         a = b
 
 

@@ -106,10 +106,36 @@ def scan(x, y, theta, angles, reach, floor, world, near, out):  # pragma: no cov
         for turn in range(-1, 2):
             a = relative + low - ANGULAR_MARGIN + turn * 2.0 * math.pi
             b = relative + high + ANGULAR_MARGIN + turn * 2.0 * math.pi
-            k0 = np.searchsorted(angles, a, side="left")
-            k1 = np.searchsorted(angles, b, side="right")
+            k0 = _first_not_below(angles, a)
+            k1 = _first_above(angles, b)
             if k0 < k1:
                 _part_beams(x, y, beams, q, vertices, n, box, k0, k1, out)
+
+
+@njit(cache=True, inline="always")
+def _first_not_below(ascending, value):  # pragma: no cover - compiled
+    """``np.searchsorted(ascending, value, side="left")``, written out: numba's compiles for a second."""
+    lo, hi = 0, ascending.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if ascending[mid] < value:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True, inline="always")
+def _first_above(ascending, value):  # pragma: no cover - compiled
+    """``np.searchsorted(ascending, value, side="right")``, likewise."""
+    lo, hi = 0, ascending.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if ascending[mid] <= value:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
 
 
 @njit(cache=True, inline="always")

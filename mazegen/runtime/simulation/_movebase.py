@@ -138,7 +138,7 @@ def _choose(
         for k in range(nv * nw):
             vs, ws = _forward_sample(k, nw, v_lo, dv, w_lo, dw)
             bounds[k], ends[k, 0], ends[k, 1] = bound(params, limits, frame, nav, clear, pose, vs, ws, here)
-        for k in np.argsort(bounds, kind="mergesort"):
+        for k in stable_order(bounds):
             if bounds[k] > best or (bounds[k] == best and k > best_k):
                 break  # (the rest bound no lower)
             whole = bounds[k] + plan_term(params, plan, n_plan, ends[k, 0], ends[k, 1])
@@ -169,6 +169,32 @@ def _choose(
                         best, best_v, best_w, facing = cost, 0.0, turn, ahead
         ws += dw
     return best, best_v, best_w
+
+
+@njit(cache=True)
+def stable_order(keys):  # pragma: no cover - compiled
+    """``np.argsort(keys, kind="mergesort")`` (ties in index order, NaN last), a bottom-up merge sort
+    written out: numba's compiles for about a second."""
+    n = keys.shape[0]
+    order, merged = np.arange(n), np.empty(n, np.int64)
+    width = 1
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid, hi = min(lo + width, n), min(lo + 2 * width, n)
+            i, j = lo, mid
+            for t in range(lo, hi):
+                if i < mid and (
+                    j >= hi or keys[order[i]] <= keys[order[j]] or keys[order[j]] != keys[order[j]]
+                ):
+                    merged[t] = order[i]
+                    i += 1
+                else:
+                    merged[t] = order[j]
+                    j += 1
+        for t in range(n):
+            order[t] = merged[t]
+        width *= 2
+    return order
 
 
 @njit(cache=True, inline="always")

@@ -62,7 +62,8 @@ def floor_paths(population: Population, indices: np.ndarray, *, margin: float | 
         count = np.zeros(len(rows), np.int64)
         points = np.zeros((len(rows), max(capacity, 1), 2))
         arrays = (shapes, ids, n_el, params, valid, rows, plain, half, wide, bool(margin))
-        in_blocks(_paths, len(rows), *arrays, capacity, length, count, points, per_thread=8)
+        if len(rows):  # (none: nothing to compile)
+            in_blocks(_paths, len(rows), *arrays, capacity, length, count, points, per_thread=8)
         if count.max(initial=0) <= capacity or margin is None:
             return FloorPaths(length, points, count if margin is not None else np.zeros_like(count))
         capacity = int(count.max())  # a rare path with more corners than CORNERS: once more, wider

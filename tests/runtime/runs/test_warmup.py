@@ -36,15 +36,24 @@ FIRST_RUN = textwrap.dedent(
 )
 
 
-def test_a_run_after_compiling_ahead_compiles_nothing(tmp_path):
-    script = tmp_path / "first_run.py"
-    script.write_text(FIRST_RUN)
+def first_compile(tmp_path, script: str, *args: str) -> str:
+    """Run ``script`` with an empty kernel cache (its first argument, before ``args``); its output."""
+    path = tmp_path / "first.py"
+    path.write_text(script)
     cache = tmp_path / "cache"
     env = {**os.environ, "NUMBA_CACHE_DIR": str(cache)}
-    args = [sys.executable, str(script), str(cache), str(tmp_path / "build"), str(EXAMPLES / "workshop.maze")]
-    done = subprocess.run(args, capture_output=True, text=True, env=env, timeout=900, check=False)
+    done = subprocess.run(
+        [sys.executable, str(path), str(cache), *args], capture_output=True, text=True, env=env, timeout=900, check=False
+    )
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == "[]"
+    return done.stdout.strip()
+
+
+def test_a_run_after_compiling_ahead_compiles_nothing(tmp_path):
+    assert (
+        first_compile(tmp_path, FIRST_RUN, str(tmp_path / "build"), str(EXAMPLES / "workshop.maze")) == "[]"
+    )
+    cache = tmp_path / "cache"
     # Both processes compiled: the path kernels in the helper, the evolution's here.
     names = {path.name.split("-")[0] for path in cache.rglob("*.nbi")}
     assert {"_difficulty._survey_all", "_connectivity._reach_all", "_mapping._map_all"} <= names
@@ -56,9 +65,10 @@ STOPPED_HELPER = textwrap.dedent(
 
     def main():
         import mazegen
-        from mazegen.runtime.runs._warmup import PathKernelHelper
+        from mazegen.runtime.runs._warmup import KernelHelper, compile_path_kernels
 
-        helper = PathKernelHelper(mazegen.load(sys.argv[1]))  # the cache is empty: it compiles for long
+        # the cache is empty: it compiles for long
+        helper = KernelHelper(compile_path_kernels, mazegen.load(sys.argv[1]))
         helper.stop()  # at once, as compile_kernels does when the command fails early or is interrupted
         print(helper.exitcode)
 
@@ -80,3 +90,33 @@ def test_a_helper_stopped_at_once_exits_through_python(tmp_path):
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "1"  # sys.exit(1) from its handler, not -15 for a kill nor 0 for done
     assert done.stderr == ""
+
+
+FIRST_DRIVE = textwrap.dedent(
+    """
+    import sys
+    from pathlib import Path
+
+    def main():
+        import mazegen
+        from mazegen.runtime import simulation
+        from mazegen.runtime.runs import compile_drive_kernels
+        from mazegen.runtime.runs._warmup import empty_floors
+
+        cache, spec = Path(sys.argv[1]), mazegen.load(sys.argv[2])
+        compile_drive_kernels(spec, ["straight"])
+        compiled = {path.name for path in cache.rglob("*.nb*")}
+        episodes = simulation.drive(empty_floors(spec), robot=spec.robot_or_default, controller="straight")
+        print(episodes.outcome.tolist(), sorted({path.name for path in cache.rglob("*.nb*")} - compiled))
+
+    if __name__ == "__main__":
+        main()
+    """
+)
+
+
+def test_a_drive_after_compiling_ahead_compiles_nothing(tmp_path):
+    # both empty floors driven to arrival, from the cache alone
+    assert first_compile(tmp_path, FIRST_DRIVE, str(EXAMPLES / "factory.maze")) == "[0, 0] []"
+    names = {path.name.split("-")[0] for path in (tmp_path / "cache").rglob("*.nbi")}
+    assert {"_loop.run_all", "_step.begin_all", "_paths._navigate_all"} <= names  # the loop, the set-up

@@ -13,6 +13,7 @@ from mazegen.errors import MazeError
 from mazegen.runtime.simulation import ARRIVED, COLLISION, NO_PATH, OUTCOMES, drive
 from mazegen.runtime.threads import CORES, threads
 from mazegen.spec import Arena, ControllerSpec, robot_for
+from tests.conftest import EXAMPLES
 from tests.runtime.floors import ARENA, ZIGZAG, population, random_floors
 
 CORRIDOR = Arena("corridor", 1000, 600, "cm", (100, 300), (900, 300), 20, 10)
@@ -175,3 +176,31 @@ def test_lengths_set_in_the_spec_are_in_arena_units():
     assert defaults[0] == pytest.approx(60.0)  # 0.6 m in cm
     changed = bundled_params("purepursuit", (("lookahead", 45.0),), ARENA)
     assert changed[0] == 45.0 and (changed[1:] == defaults[1:]).all()
+
+
+@pytest.mark.parametrize("controller", ["straight", "purepursuit", "dwa", "vfh", "movebase"])
+def test_the_loop_compiled_without_floors_has_the_types_a_drive_of_scenario_files_gives_it(
+    controller, factory_run, monkeypatch
+):
+    # A first drive compiles its loop ahead (runs/_warmup.py) with compile_loop: a loop of other types
+    # would be compiled again by the drive itself, which would then wait as long as before.
+    import numba
+
+    import mazegen
+    import mazegen.runtime.simulation._loop as loop
+    from mazegen.runtime.runs._warmup import empty_floors
+    from mazegen.runtime.simulation import compile_loop
+
+    types: list[tuple] = []
+
+    def recorded(kernel, count, *args, **options):
+        types.append(tuple(numba.typeof(arg) for arg in args))
+        return loop_in_blocks(kernel, count, *args, **options)
+
+    loop_in_blocks = loop.in_blocks
+    monkeypatch.setattr(loop, "in_blocks", recorded)
+    spec = mazegen.load(EXAMPLES / "factory.maze")
+    compile_loop(empty_floors(spec), spec.robot_or_default, controller)
+    assert len(types) == 1
+    mazegen.drive(factory_run, controller)
+    assert len(types) >= 2 and all(found == types[0] for found in types[1:])

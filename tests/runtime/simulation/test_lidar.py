@@ -45,3 +45,12 @@ def test_beams_spread_over_the_field_of_view_centred_on_the_heading():
     np.testing.assert_allclose(full, [-math.pi, -math.pi / 2, 0, math.pi / 2])
     np.testing.assert_allclose(beam_angles(3, math.pi), [-math.pi / 2, 0, math.pi / 2])
     assert beam_angles(1, 1.0).tolist() == [0.0] and beam_angles(0, 1.0).size == 0
+
+
+def test_the_beams_of_a_span_are_found_as_numpys_searchsorted_finds_them():
+    from mazegen.runtime.simulation._lidar import _first_above, _first_not_below
+
+    angles = beam_angles(9, math.pi)
+    for value in [-4.0, angles[0], *angles[3:5], (angles[4] + angles[5]) / 2, angles[-1], 4.0]:
+        assert _first_not_below(angles, value) == np.searchsorted(angles, value, side="left")
+        assert _first_above(angles, value) == np.searchsorted(angles, value, side="right")

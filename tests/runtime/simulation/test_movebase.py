@@ -342,3 +342,14 @@ def test_a_resolution_too_fine_for_the_arena_is_one_line_before_anything_is_buil
         MazeError, match=r"^controller movebase's resolution 0.0001 makes more than 4096 cells"
     ):
         drive(population(YARD, [GAP]), robot=ROBOT, controller=fine)
+
+
+def test_the_samples_are_tried_in_numpys_stable_order_ties_by_index_and_nan_last():
+    from mazegen.runtime.simulation._movebase import stable_order
+
+    rng = np.random.default_rng(7)
+    for n in (0, 1, 2, 3, 17, 64, 120):
+        keys = rng.integers(0, 5, n).astype(np.float64)  # many ties
+        keys[rng.random(n) < 0.1] = np.nan
+        keys[rng.random(n) < 0.1] = np.inf
+        assert stable_order(keys).tolist() == np.argsort(keys, kind="mergesort").tolist()
