@@ -5,7 +5,7 @@ Usage:
     python examples/learning/train.py                  # both curricula, a few minutes on 2 cores
     python examples/learning/train.py --iterations 3 --candidates 4 --levels 4 --held-out 16   # a quick look
 
-The policy is a small network (lidar sectors, the goal, a waypoint 1 m ahead along MazeGen's path and
+The policy is a small network (lidar sectors, the goal, a waypoint 1 m ahead along the level's path and
 the velocity in; speed and turn rate out) whose weights an OpenAI-style evolution strategy searches:
 antithetic Gaussian perturbations, centred ranks, Adam. Each iteration plays every candidate on the
 same few levels at once, in one ``FloorVectorEnv`` (candidates x levels sub-environments); a
@@ -48,8 +48,8 @@ from mazegen.runtime.simulation import ARRIVED, barn_score, drive
 
 BEAMS, SECTORS, HIDDEN = 64, 16, 16
 WAYPOINT = 1.0
-"""Metres ahead along MazeGen's path of the waypoint the policy sees, as BARN's learned planners read
-the global plan."""
+"""Metres ahead along the level's path (MazeGen's, kept clear) of the waypoint the policy sees, as BARN's
+learned planners read the global plan."""
 INPUTS = SECTORS + 8  # lidar sectors; goal and waypoint (squashed distance, cosine, sine); velocity
 SIZES = [(INPUTS, HIDDEN), (HIDDEN,), (HIDDEN, 2), (2,)]
 PARAMETERS = sum(math.prod(shape) for shape in SIZES)

@@ -4,7 +4,7 @@ each (its id, hash, difficulty, task) and, where it has one, the genome it was m
 :class:`Levels` is what level sources give, what ``reset(options={"levels": ...})`` takes, what the
 curriculum's sampler keeps, and what ``.npz`` files hold (:meth:`Levels.save`, :meth:`Levels.load`):
 padded element parts with a mask (a part of no vertices is padding), start, goal, robot limits,
-MazeGen's path, step limits; a JAX user loads a batch and ``vmap``\\ s over its first axis.
+the level's path, step limits; a JAX user loads a batch and ``vmap``\\ s over its first axis.
 """
 
 from __future__ import annotations

@@ -62,7 +62,7 @@ class FloorVectorEnv(VectorEnv):
         reward: The reward's weights.
         beams: Lidar beams over ``fov`` radians centred on the heading (0: no lidar and no ``scan``).
         fov: The lidar's field of view.
-        waypoint: Metres ahead along MazeGen's path of the ``waypoint`` observed (None: not observed).
+        waypoint: Metres ahead along the level's path of the ``waypoint`` observed (None: not observed).
         autoreset_mode: One of :data:`MODES` (Gymnasium's ``AutoresetMode``), default ``NEXT_STEP``.
         seed: Seeds the draw of the levels made to size the spaces; ``reset(seed=...)`` seeds the rest.
     """

@@ -196,7 +196,8 @@ def reference_waypoint(pose: np.ndarray, path: np.ndarray, ahead: float) -> np.n
     """Plain NumPy: the path's point ``ahead`` beyond its point nearest ``pose``, in the robot's frame."""
     starts, ends = path[:-1], path[1:]
     edges = ends - starts
-    t = np.clip(np.einsum("ij,ij->i", pose[:2] - starts, edges) / np.einsum("ij,ij->i", edges, edges), 0, 1)
+    along, squared = np.einsum("ij,ij->i", pose[:2] - starts, edges), np.einsum("ij,ij->i", edges, edges)
+    t = np.clip(np.divide(along, squared, out=np.zeros_like(along), where=squared > 0), 0, 1)  # 0 on a point
     near = starts + t[:, None] * edges
     k = int(np.argmin(np.linalg.norm(near - pose[:2], axis=1)))
     polyline = np.vstack([near[k], path[k + 1 :]])
@@ -231,3 +232,27 @@ def test_the_waypoint_is_the_point_of_the_path_ahead_of_the_nearest_one():
         )
     with pytest.raises(MazeError, match="waypoint must be a positive number of metres"):
         FloorVectorEnv(2, levels=levels, beams=0, waypoint=-1.0)
+
+
+def test_a_levels_path_keeps_the_plan_margin_clear_where_it_can_and_is_as_long_as_mazegens():
+    import shapely
+
+    from mazegen.runtime.geometry import grid_of
+    from mazegen.runtime.simulation._levels import PLAN_MARGIN
+    from mazegen.runtime.simulation._paths import floor_paths
+
+    floors = population(ARENA, [ZIGZAG])  # gaps of 150 cm: room for the margin on both sides
+    level = population_levels(
+        floors, robot_for(ARENA, beams=0), np.zeros(1, np.int64), np.zeros(1, np.int64), "hall"
+    )
+    walls = shapely.union_all(
+        [shapely.box(x - w / 2, y - d / 2, x + w / 2, y + d / 2) for _, x, y, w, d, _ in ZIGZAG]
+    )
+    mazegens = floor_paths(floors, np.zeros(1, np.int64), margin=None)  # its length
+    touching = floor_paths(floors, np.zeros(1, np.int64), margin=0.0)  # and its corners
+    cell, radius = grid_of(ARENA).cell, ARENA.robot_radius
+    kept = shapely.LineString(level.rows.path[0, : level.rows.path_count[0]]).distance(walls)
+    grazing = shapely.LineString(touching.corners[0, : touching.count[0]]).distance(walls)
+    assert kept >= radius + PLAN_MARGIN * 100 - cell  # cm
+    assert grazing <= radius + cell < kept
+    assert level.rows.optimal_time[0] * level.rows.limits[0, 0] == pytest.approx(mazegens.length[0])

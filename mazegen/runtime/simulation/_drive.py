@@ -144,9 +144,10 @@ def _own(episodes: Episodes, a: int, b: int, plan: _Plan, record: bool) -> Episo
     )
 
 
-def _run_to_the_end(state: DriveState, loop: Callable[[DriveState, tuple], None] = run_bundled) -> None:
+def _run_to_the_end(state: DriveState, loop: Callable[[DriveState, tuple], None] | None = None) -> None:
     """Run every episode of ``state`` to its end, with the loop its controller needs (a bundled
-    controller's is ``loop``, given the state and its fields)."""
+    controller's is ``loop``, given the state and its fields; default :func:`run_bundled`)."""
+    loop = run_bundled if loop is None else loop
     choice = state.choice
     if choice.policy is not None:
         run_policy(state, choice.policy)

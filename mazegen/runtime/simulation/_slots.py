@@ -11,7 +11,7 @@ steps every slot still playing, scores the step and observes what each robot see
 The reward of a step (weights in :data:`REWARD_TERMS` order, ``float64[4]``):
 ``progress · (to_go before − to_go after) · metres per unit − time``, plus ``arrival`` on arriving,
 minus ``collision`` on a step that touches an obstacle. ``to_go`` is the length of the shortest way
-to the goal that goes straight to a point of MazeGen's path and then follows it (:func:`path_to_go`):
+to the goal that goes straight to a point of the level's path and then follows it (:func:`path_to_go`):
 the progress terms of an episode add up to its start's ``to_go`` less its end's, in metres.
 """
 
@@ -57,7 +57,7 @@ class Slots:
         ranges: ``float64[n, beams]`` each robot's last scan.
         to_goal: ``float64[n, 3]`` the goal in each robot's frame: distance, cosine and sine of its bearing.
         reward: ``float64[n]`` each slot's reward at the last step (0 for a slot that did not step).
-        waypoint: Metres ahead along MazeGen's path of the waypoint observed (0: none observed).
+        waypoint: Metres ahead along the level's path of the waypoint observed (0: none observed).
         to_waypoint: ``float64[n, 3]`` (no rows without a waypoint) the waypoint in each robot's frame,
             as ``to_goal`` (:func:`path_waypoint`).
     """
