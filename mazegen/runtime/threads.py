@@ -16,7 +16,7 @@ from __future__ import annotations
 import itertools
 import os
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -91,6 +91,33 @@ def in_blocks(kernel: Callable[..., Any], count: int, *args: Any, per_thread: in
     finally:
         for helper in helpers:
             helper.result()
+
+
+def map_in_threads(function: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+    """``[function(item) for item in items]``, the items spread over the threads in use, each call's
+    kernels on its own thread: for many small pieces of work (a heterogeneous batch's floors, each a
+    group of its own), whose kernels would each run on one thread anyway. A single item runs here on
+    every thread. The results are in order and the same whatever the thread count; the first failing
+    item's exception is raised, whatever thread met it first.
+    """
+    if len(items) < 2 or thread_count() == 1:
+        return [function(item) for item in items]
+    found: list[Any] = [None] * len(items)
+    failed: list[BaseException | None] = [None] * len(items)
+
+    def work(first: int, last: int) -> None:
+        with threads(1):  # nested in_blocks would wait for the pool's thread that runs this
+            for k in range(first, last):
+                try:
+                    found[k] = function(items[k])
+                except Exception as error:  # raised below, in item order
+                    failed[k] = error
+
+    in_blocks(work, len(items), per_thread=8)
+    first_failure = next((error for error in failed if error is not None), None)
+    if first_failure is not None:
+        raise first_failure
+    return found
 
 
 def _pool(workers: int) -> ThreadPoolExecutor:

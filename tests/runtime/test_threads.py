@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from mazegen.runtime.threads import CORES, in_blocks, thread_count, threads, threads_for
+from mazegen.runtime.threads import CORES, in_blocks, map_in_threads, thread_count, threads, threads_for
 
 
 @njit(nogil=True)
@@ -67,3 +67,29 @@ def test_thread_counts_are_bounded_and_restored():
     with threads_for(10) as small, threads_for(10**6) as large:
         assert small == 1 and large == 1  # a large population inside a small one's block stays on one
     assert thread_count() == before
+
+
+@pytest.mark.skipif(CORES < 2, reason="needs two threads")
+def test_map_in_threads_keeps_the_order_and_each_call_runs_its_kernels_on_one_thread():
+    def work(item: int) -> tuple[int, int, str]:
+        visits = np.zeros(50, np.int64)
+        in_blocks(_count_visits, 50, visits)  # nested: on this item's thread alone, never waiting on the pool
+        return item * item, thread_count(), threading.current_thread().name
+
+    with threads(2):
+        found = map_in_threads(work, list(range(40)))
+        alone = map_in_threads(work, [7])
+    assert [square for square, _, _ in found] == [k * k for k in range(40)]
+    assert {count for _, count, _ in found} == {1}
+    assert alone == [(49, 2, threading.current_thread().name)]  # one item: here, on every thread
+
+
+def test_map_in_threads_raises_the_first_failing_items_error_whichever_thread_met_it():
+    def work(item: int) -> int:
+        if item in (3, 30):
+            raise ValueError(f"item {item}")
+        return item
+
+    for _ in range(20):
+        with threads(2), pytest.raises(ValueError, match=r"^item 3$"):
+            map_in_threads(work, list(range(40)))

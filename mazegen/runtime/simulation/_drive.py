@@ -35,6 +35,7 @@ from mazegen.runtime.simulation._policy import run_policy
 from mazegen.runtime.simulation._state import DriveState, FloorGroup, Robots, Setup, robot_limits
 from mazegen.runtime.simulation._step import begin_all
 from mazegen.runtime.simulation._world import world_of
+from mazegen.runtime.threads import map_in_threads
 from mazegen.spec import ControllerSpec, Robot
 
 
@@ -200,9 +201,11 @@ def _run_with_fields(state: DriveState, loop: Callable[[DriveState, tuple], None
         b = a + max(1, int(np.searchsorted(np.cumsum(cells[a:]), FIELD_CELLS, side="right")))
         part = state.part(a, b)
         if costmap:
-            fields = [costmap_fields(g.population, params, g.rows) for g, params in _group_params(part)]
+            fields = map_in_threads(
+                lambda g: costmap_fields(g[0].population, g[1], g[0].rows), _group_params(part)
+            )
         else:
-            fields = [floor_fields(g.population, g.robot, g.rows) for g in part.groups]
+            fields = map_in_threads(lambda g: floor_fields(g.population, g.robot, g.rows), part.groups)
         loop(part, joined_fields(fields))
         a = b
 
