@@ -89,16 +89,20 @@ def _beside(helper: KernelHelper, work: Callable[..., None], *args: Any) -> None
 def _compile_loops(spec: Spec, controllers: Sequence[str]) -> None:
     from mazegen.runtime.simulation import compile_loop
 
+    floors, robot = empty_floors(spec), spec.robot_or_default
     for name in controllers:
-        compile_loop(empty_floors(spec), spec.robot_or_default, name)
+        compile_loop(floors, robot, name)
 
 
 def _compile_set_ups(spec: Spec, controllers: tuple[str, ...]) -> None:
     from mazegen.runtime.simulation import compile_set_up
 
-    navigation_of(empty_floors(spec))  # which floors have a path, which a drive of scenario files asks first
+    # Which floors have a path, which a drive of scenario files asks first: on floors of their own, as
+    # floors measured so reuse the measured lengths and would leave the path kernel a drive may call.
+    navigation_of(empty_floors(spec))
+    floors, robot = empty_floors(spec), spec.robot_or_default
     for name in controllers:
-        compile_set_up(empty_floors(spec), spec.robot_or_default, name)
+        compile_set_up(floors, robot, name)
 
 
 class KernelHelper:

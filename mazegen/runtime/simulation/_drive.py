@@ -201,13 +201,20 @@ def _run_with_fields(state: DriveState, loop: Callable[[DriveState, tuple], None
         b = a + max(1, int(np.searchsorted(np.cumsum(cells[a:]), FIELD_CELLS, side="right")))
         part = state.part(a, b)
         if costmap:
-            fields = map_in_threads(
-                lambda g: costmap_fields(g[0].population, g[1], g[0].rows), _group_params(part)
-            )
+            fields = map_in_threads(_group_costmap, _group_params(part))
         else:
-            fields = map_in_threads(lambda g: floor_fields(g.population, g.robot, g.rows), part.groups)
+            fields = map_in_threads(_group_fields, part.groups)
         loop(part, joined_fields(fields))
         a = b
+
+
+def _group_costmap(group_params: tuple[FloorGroup, np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    group, params = group_params
+    return costmap_fields(group.population, params, group.rows)
+
+
+def _group_fields(group: FloorGroup) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    return floor_fields(group.population, group.robot, group.rows)
 
 
 def _group_params(state: DriveState) -> list[tuple[FloorGroup, np.ndarray]]:

@@ -192,12 +192,12 @@ def test_the_loop_compiled_without_floors_has_the_types_a_drive_of_scenario_file
     from mazegen.runtime.simulation import compile_loop
 
     types: list[tuple] = []
+    loop_in_blocks = loop.in_blocks
 
     def recorded(kernel, count, *args, **options):
         types.append(tuple(numba.typeof(arg) for arg in args))
         return loop_in_blocks(kernel, count, *args, **options)
 
-    loop_in_blocks = loop.in_blocks
     monkeypatch.setattr(loop, "in_blocks", recorded)
     spec = mazegen.load(EXAMPLES / "factory.maze")
     compile_loop(empty_floors(spec), spec.robot_or_default, controller)
