@@ -17,7 +17,6 @@ from mazegen.runtime.geometry import cspace, grid_args, raster_arrays
 from mazegen.runtime.navigation._homotopy import (
     GOAL_STATES_PER_CLASS,
     LENGTH_TOLERANCE,
-    MAX_HOLES,
     class_scratch,
     floor_classes,
 )
@@ -51,11 +50,11 @@ def _count_all(
     raster = raster_arrays(grid, ids.shape[1], shapes[2].shape[1], shapes[2].shape[2])
     free = np.zeros((rows, grid[4].shape[1]), np.uint64)
     scratch = class_scratch(rows, cols, max_classes)
-    signatures = GOAL_STATES_PER_CLASS * max_classes
-    lengths = np.empty(signatures)
-    keys = np.empty((signatures, MAX_HOLES), np.int64)
-    paths = np.empty((signatures, scratch[12].shape[0], 2))
-    turns = np.empty(signatures, np.int64)
+    walks = GOAL_STATES_PER_CLASS * max_classes
+    lengths = np.empty(walks)
+    keys = np.empty(walks, np.uint64)
+    paths = np.empty((0, 0, 2))  # none: the number of classes alone
+    turns = np.empty(walks, np.int64)
     points = grid[5] / grid[0]
     for i in range(first, last):
         counts[i] = 0

@@ -26,7 +26,6 @@ import numpy as np
 from mazegen.runtime.navigation._homotopy import (
     GOAL_STATES_PER_CLASS,
     LENGTH_TOLERANCE,
-    MAX_HOLES,
     class_scratch,
     floor_classes,
 )
@@ -145,24 +144,25 @@ def topology(
     free = np.ascontiguousarray(free, np.bool_)
     rows, cols = free.shape
     scratch = class_scratch(rows, cols, max_classes)
-    signatures = GOAL_STATES_PER_CLASS * max_classes
-    lengths, keys = np.zeros(signatures), np.zeros((signatures, MAX_HOLES), np.int64)
-    paths, turns = np.zeros((signatures, len(scratch[12]), 2)), np.zeros(signatures, np.int64)
+    walks = GOAL_STATES_PER_CLASS * max_classes
+    lengths, keys = np.zeros(walks), np.zeros(walks, np.uint64)
+    paths, turns = np.zeros((walks, len(scratch[12]), 2)), np.zeros(walks, np.int64)
     found, holes = floor_classes(
         _bit_rows(free), cols, np.array([*cells[0], *cells[1]], np.int64),
         np.array([*ends[0], *ends[1]], np.float64) / cell, max_classes, float(detour), scratch, lengths,
         keys, paths, turns,
     )  # fmt: skip
-    marks, centres = scratch[3][:holes, :2] * cell, scratch[3][:holes, 3:5] / scratch[3][:holes, 5:] * cell
+    found_holes = scratch[2][3][:holes]
+    marks, centres = found_holes[:, :2] * cell, found_holes[:, 3:5] / found_holes[:, 5:] * cell
     if not found:
         return Topology((), ends[0], ends[1], marks, (), ())
     shortest = float(lengths[:found].min()) * cell
     best: dict[tuple[int, ...], PathClass] = {}
     for k in range(found):
         length = float(lengths[k]) * cell
-        key = tuple(keys[k, :holes].tolist())
         if not length <= detour * shortest * (1.0 + LENGTH_TOLERANCE):  # (inf: a corridor not pulled)
             continue
+        key = tuple(1 if int(keys[k]) >> h & 1 else -1 for h in range(holes))
         points = paths[k, : turns[k]] * cell
         points[0], points[-1] = ends
         narrowest = narrowest_width(_cells_along(points / cell), free) * cell + 2 * radius
