@@ -157,22 +157,25 @@ def topology(
     if not found:
         return Topology((), ends[0], ends[1], marks, (), ())
     shortest = float(lengths[:found].min()) * cell
-    best: dict[tuple[int, ...], PathClass] = {}
+    within: dict[tuple[int, ...], tuple[float, np.ndarray]] = {}
     for k in range(found):
         length = float(lengths[k]) * cell
         if not length <= detour * shortest * (1.0 + LENGTH_TOLERANCE):  # (inf: a corridor not pulled)
             continue
-        key = tuple(1 if int(keys[k]) >> h & 1 else -1 for h in range(holes))
         points = paths[k, : turns[k]] * cell
         points[0], points[-1] = ends
-        narrowest = narrowest_width(_cells_along(points / cell), free) * cell + 2 * radius
-        best[key] = PathClass("", length, float(narrowest), points)
-    kept = sorted(best.items(), key=lambda kc: (kc[1].length, kc[0]))[:max_classes]
+        within[tuple(1 if int(keys[k]) >> h & 1 else -1 for h in range(holes))] = (length, points)
+    kept = sorted(within.items(), key=lambda kc: (kc[1][0], kc[0]))[:max_classes]
     order = _canonical_order(centres, ends, radius)
     telling = [k for k in order if len({key[k] for key, _ in kept}) > 1]
     classes = tuple(
-        PathClass("".join("L" if key[k] > 0 else "R" for k in telling), c.length, c.narrowest, c.path)
-        for key, c in kept
+        PathClass(
+            "".join("L" if key[k] > 0 else "R" for k in telling),
+            length,
+            float(narrowest_width(points / cell, free)) * cell + 2 * radius,
+            points,
+        )
+        for key, (length, points) in kept
     )
     return Topology(classes, ends[0], ends[1], marks, tuple(key for key, _ in kept), tuple(telling))
 
@@ -185,19 +188,6 @@ def _bit_rows(free: np.ndarray) -> np.ndarray:
     padded = np.zeros((rows, 64 * words), np.bool_)
     padded[:, :cols] = free
     return np.packbits(padded, axis=1, bitorder="little").view("<u8").astype(np.uint64)
-
-
-def _cells_along(points: np.ndarray) -> np.ndarray:
-    """``int64[n, 2]``: the cells (row, column) a polyline of ``points`` (cells) passes, in order, each
-    once in a row (sampled every quarter cell)."""
-    starts, moves = points[:-1], np.diff(points, axis=0)
-    samples = np.maximum(2, (4 * np.hypot(moves[:, 0], moves[:, 1])).astype(np.int64) + 1)
-    segment = np.repeat(np.arange(len(moves)), samples)
-    along = np.arange(samples.sum()) - np.repeat(np.cumsum(samples) - samples, samples)
-    sampled = starts[segment] + moves[segment] * (along / (samples[segment] - 1))[:, None]
-    cells = np.floor(sampled[:, ::-1]).astype(np.int64)
-    change = np.concatenate([[True], (np.diff(cells, axis=0) != 0).any(axis=1)])
-    return cells[change]
 
 
 def _runs(items: list[int], value: Callable[[int], float], tolerance: float) -> list[list[int]]:

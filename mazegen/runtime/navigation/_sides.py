@@ -8,6 +8,8 @@ import math
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import inner_kernel
+
 
 @njit(cache=True)
 def sides(points, marks, start, goal):  # pragma: no cover - compiled
@@ -38,10 +40,12 @@ def sides(points, marks, start, goal):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def narrowest_width(cells, free):  # pragma: no cover - compiled
-    """The narrowest free width the path of ``cells`` passes through, in cells: at each of its cells,
-    the free cells across the path (both ways along the normal to its direction over a few cells,
-    up to the first blocked cell or the edge); ``inf`` for a path of fewer than two cells."""
+def narrowest_width(points, free):  # pragma: no cover - compiled
+    """The narrowest free width a polyline of ``points`` (``[n, 2]``, cells) passes through, in cells:
+    at each cell it passes (:func:`cells_along`), the free cells across the path (both ways along
+    the normal to its direction over a few cells, up to the first blocked cell or the edge); ``inf``
+    for a path of fewer than two cells."""
+    cells = cells_along(points)
     rows, cols = free.shape
     n = cells.shape[0]
     narrowest = np.inf
@@ -64,3 +68,27 @@ def narrowest_width(cells, free):  # pragma: no cover - compiled
             width += t - 0.5
         narrowest = min(narrowest, width + 1.0)  # the cell itself
     return narrowest
+
+
+@inner_kernel
+def cells_along(points):  # pragma: no cover - compiled
+    """``int64[n, 2]``: the cells (row, column) a polyline of ``points`` (cells) passes, in order, each
+    once in a row: every segment sampled at ``max(2, ⌊4 · length⌋ + 1)`` evenly spaced points."""
+    total = 0
+    for j in range(points.shape[0] - 1):
+        total += max(
+            2, int(4.0 * math.hypot(points[j + 1, 0] - points[j, 0], points[j + 1, 1] - points[j, 1])) + 1
+        )
+    cells = np.empty((total, 2), np.int64)
+    n = 0
+    for j in range(points.shape[0] - 1):
+        sx, sy = points[j, 0], points[j, 1]
+        dx, dy = points[j + 1, 0] - sx, points[j + 1, 1] - sy
+        samples = max(2, int(4.0 * math.hypot(dx, dy)) + 1)
+        for k in range(samples):
+            t = k / (samples - 1)
+            r, c = math.floor(sy + dy * t), math.floor(sx + dx * t)
+            if n == 0 or r != cells[n - 1, 0] or c != cells[n - 1, 1]:
+                cells[n, 0], cells[n, 1] = r, c
+                n += 1
+    return cells[:n]

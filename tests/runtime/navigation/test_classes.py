@@ -3,12 +3,14 @@ jitter and renumbering, changed by moving an obstacle across the route."""
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 
 from mazegen.runtime.geometry._cspace import Grid
 from mazegen.runtime.navigation._classes import floor_topology, topology
-from mazegen.runtime.navigation._sides import sides
+from mazegen.runtime.navigation._sides import narrowest_width, sides
 from mazegen.spec import Arena
 from tests.runtime.floors import population
 
@@ -49,6 +51,48 @@ def test_a_door_in_a_wall_is_the_narrowest_gap():
     """One door, 80 wide, in a wall from edge to edge: one class, through the door."""
     found = classes(box(500, 130, 20, 260), box(500, 470, 20, 260))
     assert len(found.classes) == 1 and found.classes[0].narrowest == pytest.approx(80, abs=20)
+
+
+def reference_narrowest(points: np.ndarray, free: np.ndarray) -> float:
+    """The narrowest width along ``points`` (cells) by plain NumPy and Python: the polyline sampled at
+    ``max(2, ⌊4 · length⌋ + 1)`` points a segment, the cells it passes each once in a row, and at each
+    the free run across its direction, stepped half a cell at a time."""
+    cells: list[tuple[int, int]] = []
+    for start, end in itertools.pairwise(points):
+        samples = max(2, int(4 * np.hypot(*(end - start))) + 1)
+        for t in np.linspace(0.0, 1.0, samples):
+            cell = (
+                int(np.floor(start[1] + (end[1] - start[1]) * t)),
+                int(np.floor(start[0] + (end[0] - start[0]) * t)),
+            )
+            if not cells or cells[-1] != cell:
+                cells.append(cell)
+    narrowest = np.inf
+    for k, (row, col) in enumerate(cells):
+        a, b = cells[max(k - 2, 0)], cells[min(k + 2, len(cells) - 1)]
+        along = np.array([b[0] - a[0], b[1] - a[1]], float)
+        if not along.any():
+            continue
+        normal = np.array([-along[1], along[0]]) / np.hypot(*along)
+        width = 1.0
+        for way in (1.0, -1.0):
+            t = 0.5
+            while True:
+                r, c = (int(np.floor(v)) for v in np.array([row, col]) + 0.5 + way * t * normal)
+                if not (0 <= r < free.shape[0] and 0 <= c < free.shape[1]) or not free[r, c]:
+                    break
+                t += 0.5
+            width += t - 0.5
+        narrowest = min(narrowest, width)
+    return narrowest
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_narrowest_gap_is_the_plain_references(seed):
+    rng = np.random.default_rng(seed)
+    free = rng.random((30, 40)) > 0.15
+    points = np.column_stack([rng.uniform(0, 40, 5), rng.uniform(0, 30, 5)])
+    assert narrowest_width(points, free) == reference_narrowest(points, free)
 
 
 def test_a_blocked_floor_has_no_class():
