@@ -41,7 +41,7 @@ from heterogeneous import BARN, import_barn
 import mazegen
 from mazegen.controllers import BY_CODE
 from mazegen.runtime.documents import Floors, load_floor
-from mazegen.runtime.navigation import spearman
+from mazegen.runtime.navigation import navigation_of, spearman
 from mazegen.runtime.simulation import ARRIVED, DriveRequest, drive_many
 from mazegen.spec import CONTACT_MODES, ControllerSpec
 
@@ -107,7 +107,7 @@ def timed_robot(
     lack of progress; ``contact`` what a touch does; ``controllers`` settings of controllers (a fitted
     robot block's), if any; ``reverse``: the Jackal backs up at up to its speed (move_base's escape)."""
     robot = floors.robot
-    optimal = float(floors.population.measured["navigation"].path_length[0]) / robot.max_speed
+    optimal = float(navigation_of(floors.population).path_length[0]) / robot.max_speed
     timeout = (STOP_S + 10.0) / optimal
     changes = {"controllers": controllers} if controllers else {}
     if reverse:
