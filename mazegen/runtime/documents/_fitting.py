@@ -306,13 +306,16 @@ def robot_block(controller: str, space: SearchSpace, values: np.ndarray, spec: S
 @dataclass(frozen=True)
 class Fit:
     """What a fit found: the fitted parameters (SI), and how the defaults, the fit and each held-out
-    fold agree with the measured runs."""
+    fold agree with the measured runs; each fold's scenario rows and the parameters fitted on the
+    others, to check a fold under another protocol."""
 
     space: SearchSpace
     fitted: np.ndarray
     default: Agreement
     result: Agreement
     held_out: tuple[Agreement, ...]
+    folds: tuple[np.ndarray, ...] = ()
+    fold_fits: tuple[np.ndarray, ...] = ()
 
 
 def fit_controller(problem: FitProblem, space: SearchSpace, *, folds: int, budget: int, seed: int) -> Fit:
@@ -321,19 +324,19 @@ def fit_controller(problem: FitProblem, space: SearchSpace, *, folds: int, budge
     every draw from ``numpy.random.default_rng(seed)``."""
     rng = np.random.default_rng(seed)
     rows = np.arange(len(problem.measured))
-    held_out = []
+    tests = folds_of(len(rows), folds, rng) if folds > 1 else []
 
     def loss_on(scenarios: np.ndarray) -> Callable[[np.ndarray], float]:
         return lambda values: problem.agreement(space, values, scenarios).loss
 
-    for test in folds_of(len(rows), folds, rng) if folds > 1 else []:
-        values, _ = cross_entropy(loss_on(np.setdiff1d(rows, test)), space, rng, budget)
-        held_out.append(problem.agreement(space, values, test))
+    fold_fits = [cross_entropy(loss_on(np.setdiff1d(rows, test)), space, rng, budget)[0] for test in tests]
     values, _ = cross_entropy(loss_on(rows), space, rng, budget)
     return Fit(
         space,
         values,
         problem.agreement(space, space.default, rows),
         problem.agreement(space, values, rows),
-        tuple(held_out),
+        tuple(problem.agreement(space, fitted, test) for fitted, test in zip(fold_fits, tests)),
+        tuple(tests),
+        tuple(fold_fits),
     )

@@ -45,6 +45,10 @@ def test_a_fit_agrees_with_the_measured_runs_at_least_as_well_as_the_defaults(me
     assert truth.rho == pytest.approx(1.0) and truth.agreement == 1.0  # the measure is the simulator's own
     assert len(found.held_out) == 2
     assert np.all((space.low <= found.fitted) & (found.fitted <= space.high))
+    # Each fold's own fit, to check it under another protocol: the folds cover the scenarios once.
+    assert np.array_equal(np.sort(np.concatenate(found.folds)), np.arange(len(runs)))
+    for fitted, rows, agreement in zip(found.fold_fits, found.folds, found.held_out):
+        assert problem.agreement(space, fitted, rows) == agreement
 
 
 def test_the_written_robot_block_imports_into_a_spec_and_the_same_seed_writes_the_same_bytes(
