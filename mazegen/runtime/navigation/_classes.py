@@ -8,8 +8,9 @@ left to right). A floor's **canonical class** is the set of its classes' signatu
 with equal ones offer a robot the same choices of route, however different their coordinates.
 
 The classes are found on the configuration space, for the robot's disc (docs/classes.md), by
-:mod:`._homotopy`: an A* search over the free rectangles and each path's H-signature (its crossings
-of a ray from every obstacle group), each class's corridor pulled taut into its shortest path. Classes
+:mod:`._homotopy`: an A* search over the junctions of the free rectangles and each path's H-signature
+(its crossings of a ray from every obstacle group), each class's corridor pulled taut into its shortest
+path. Classes
 whose shortest path is longer than ``detour`` times the floor's shortest are left out (a robot would
 not take them), and at most ``max_classes`` are kept, shortest first.
 """
