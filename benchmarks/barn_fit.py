@@ -107,10 +107,11 @@ def main() -> None:
         clocks = {
             "defaults": measured(worlds, args.controller, "end"),
             "fitted on all worlds": protocol_clocks(worlds, args.controller, [(blocks[0], every)]),
-            "fitted on the other folds (held out)": protocol_clocks(
-                worlds, args.controller, list(zip(blocks[1:], found.folds))
-            ),
         }
+        if found.folds:  # (none with --folds 1)
+            clocks["fitted on the other folds (held out)"] = protocol_clocks(
+                worlds, args.controller, list(zip(blocks[1:], found.folds))
+            )
         fitted_block = blocks[0].read_text(encoding="utf-8")
     print(
         f"{len(worlds)} training worlds, `{args.controller}` fitted on {', '.join(space.names)} "
