@@ -7,7 +7,12 @@ import re
 import subprocess
 import sys
 
+import pytest
+
 from tests.conftest import ROOT
+
+BARN = ROOT.parent / "shared" / "anchors" / "barn" / "barn-train.json"
+pytestmark = pytest.mark.skipif(not BARN.is_file(), reason="BARN's training file is not beside this checkout")
 
 ROW = re.compile(r"^\| `(\w+)[^|]*\| (-?\d\.\d\d) \| (\d+\.\d) \| 90\.9 \| (\d+\.\d) \|", re.MULTILINE)
 """A controller's row of the protocol's table: ρ, success and agreement, BARN's success 90.9 %."""
