@@ -146,8 +146,8 @@ def topology(
     rows, cols = free.shape
     scratch = class_scratch(rows, cols, max_classes)
     walks = GOAL_STATES_PER_CLASS * max_classes
-    lengths, keys = np.zeros(walks), np.zeros(walks, np.uint64)
-    paths, turns = np.zeros((walks, len(scratch[12]), 2)), np.zeros(walks, np.int64)
+    lengths, keys = np.empty(walks), np.empty(walks, np.uint64)  # written for the classes found
+    paths, turns = np.empty((walks, len(scratch[12]), 2)), np.empty(walks, np.int64)
     found, holes = floor_classes(
         _bit_rows(free), cols, np.array([*cells[0], *cells[1]], np.int64),
         np.array([*ends[0], *ends[1]], np.float64) / cell, max_classes, float(detour), scratch, lengths,
