@@ -75,12 +75,14 @@ def class_scratch(rows, cols, max_classes):  # pragma: no cover - compiled
     capacity = rows * runs_per_row(cols)
     states = min(capacity * STATES_PER_CLASS * max_classes, 1 << 16)
     corridor = 2 * capacity + 2  # a walk may pass a rectangle twice, round an obstacle beside it
+    joined = junction_arrays(capacity)
+    chains = joined[4].shape[0]
     return (
         rectangle_arrays(rows, cols),
-        junction_arrays(capacity),
+        joined,
         hole_arrays(rows, cols),
-        np.empty((2 * capacity + 1, 2), np.uint64),  # each chain's signature, walked forwards
-        np.empty(2 * capacity + 1, np.bool_),  # whether it winds (a count of two): not walked
+        np.empty((chains, 2), np.uint64),  # each chain's signature, walked forwards
+        np.empty(chains, np.bool_),  # whether it winds (a count of two): not walked
         np.empty((states, 3)),  # states: cost so far, entry point
         np.empty((states, 5), np.int64),  # states: junction, previous state, next of its junction,
         # settled, the chain it came by (2 x chain + 1 when walked back; -1 for the start)

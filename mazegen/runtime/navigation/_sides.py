@@ -76,15 +76,13 @@ def cells_along(points):  # pragma: no cover - compiled
     once in a row: every segment sampled at ``max(2, ⌊4 · length⌋ + 1)`` evenly spaced points."""
     total = 0
     for j in range(points.shape[0] - 1):
-        total += max(
-            2, int(4.0 * math.hypot(points[j + 1, 0] - points[j, 0], points[j + 1, 1] - points[j, 1])) + 1
-        )
+        total += _samples(points[j + 1, 0] - points[j, 0], points[j + 1, 1] - points[j, 1])
     cells = np.empty((total, 2), np.int64)
     n = 0
     for j in range(points.shape[0] - 1):
         sx, sy = points[j, 0], points[j, 1]
         dx, dy = points[j + 1, 0] - sx, points[j + 1, 1] - sy
-        samples = max(2, int(4.0 * math.hypot(dx, dy)) + 1)
+        samples = _samples(dx, dy)
         for k in range(samples):
             t = k / (samples - 1)
             r, c = math.floor(sy + dy * t), math.floor(sx + dx * t)
@@ -92,3 +90,9 @@ def cells_along(points):  # pragma: no cover - compiled
                 cells[n, 0], cells[n, 1] = r, c
                 n += 1
     return cells[:n]
+
+
+@njit(cache=True, inline="always")
+def _samples(dx, dy):  # pragma: no cover - compiled
+    """Points a segment ``(dx, dy)`` cells long is sampled at: four a cell, at least its two ends."""
+    return max(2, int(4.0 * math.hypot(dx, dy)) + 1)
