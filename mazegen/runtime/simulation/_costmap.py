@@ -245,7 +245,9 @@ def descend(potential, clear, costs, row, col, within, plan):  # pragma: no cove
                 if (dr == 0 and dc == 0) or nc < 0 or nc >= cols or potential[nr, nc] == math.inf:
                     continue
                 step = math.sqrt(2.0) if dr != 0 and dc != 0 else 1.0
-                way = potential[nr, nc] + 0.5 * step * (own + navfn_cost(clear[nr, nc], costs))
+                # The goal's cell crosses at NEUTRAL whatever its cost, as the potential seeded it.
+                theirs = NEUTRAL if potential[nr, nc] == 0.0 else navfn_cost(clear[nr, nc], costs)
+                way = potential[nr, nc] + 0.5 * step * (own + theirs)
                 if way < through:
                     next_r, next_c, through = nr, nc, way
         if next_r < 0 or potential[next_r, next_c] >= level:

@@ -103,9 +103,16 @@ def brute_potential(cost: np.ndarray, goal: tuple[int, int]) -> np.ndarray:
     return best
 
 
-def test_navfns_potential_is_a_brute_force_dijkstra_and_the_plan_descends_it():
-    nav, clear, grid = fields(CLUTTER)
+GOAL_BY_A_WALL = [*CLUTTER, ("vwall", 3.8, 1.5, 0.1, 0.6, 0)]
+"""CLUTTER with a wall 0.25 m beyond the goal: the goal's cell is within the inscribed radius, a wall to
+navfn but for its being the goal (BARN's goals by their side walls are)."""
+
+
+@pytest.mark.parametrize("floor", [CLUTTER, GOAL_BY_A_WALL], ids=["clutter", "goal-by-a-wall"])
+def test_navfns_potential_is_a_brute_force_dijkstra_and_the_plan_descends_it(floor):
+    nav, clear, grid = fields(floor)
     goal = (int(YARD.goal[1] / grid[2]), int(YARD.goal[0] / grid[2]))
+    assert (nav[2][goal] >= 253) == (floor is GOAL_BY_A_WALL)
     reference = brute_potential(nav[2], goal)
     reached = np.isfinite(reference)
     assert np.array_equal(np.isfinite(nav[0]), reached)
@@ -120,8 +127,8 @@ def test_navfns_potential_is_a_brute_force_dijkstra_and_the_plan_descends_it():
     steps = list(itertools.pairwise(cells))
     assert all(max(abs(a[0] - b[0]), abs(a[1] - b[1])) == 1 for a, b in steps)
 
-    def navfn(cell):  # the robot's own cell counts as free, as navfn clears it
-        return 50.0 if cell == start else 50.0 + 0.8 * float(nav[2][cell])
+    def navfn(cell):  # the robot's own cell and the goal's count as free, as navfn has them
+        return 50.0 if cell in (start, goal) else 50.0 + 0.8 * float(nav[2][cell])
 
     cost = sum(0.5 * (navfn(a) + navfn(b)) * math.hypot(a[0] - b[0], a[1] - b[1]) for a, b in steps)
     cheapest = min(
