@@ -155,13 +155,14 @@ def measured(
 
 
 def write_measured(worlds: list[World], path: Path) -> None:
-    """BARN's five DWA runs of each world as ``mazegen fit`` reads them: scenario, outcome, time."""
-    lines = ["scenario,outcome,time"]
+    """BARN's five DWA runs of each world as ``mazegen fit`` reads them: scenario, outcome, time, and
+    the length of BARN's path, which BARN divides the times by."""
+    lines = ["scenario,outcome,time,length"]
     for world in worlds:
         scenario = Path(world.floors.files[0]).relative_to(path.parent)
         for seconds in world.times.tolist():
             outcome = "arrived" if seconds < STOP_S else "timeout"
-            lines.append(f"{scenario},{outcome},{min(seconds, STOP_S):g}")
+            lines.append(f"{scenario},{outcome},{min(seconds, STOP_S):g},{world.path_m:g}")
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 

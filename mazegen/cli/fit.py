@@ -86,7 +86,7 @@ def fit(
     out: Path,
     force: bool,
 ) -> None:
-    """Fit a bundled controller's parameters to measured runs (a CSV of scenario, outcome, time)."""
+    """Fit a bundled controller's parameters to measured runs (a CSV of scenario, outcome, time[, length])."""
     from mazegen.runtime.documents import FitProblem, SearchSpace, fit_controller, read_measured, robot_block
     from mazegen.runtime.exporters import write_files
 

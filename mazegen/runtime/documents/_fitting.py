@@ -2,10 +2,11 @@
 
 The measured runs are a CSV of ``scenario, outcome, time`` rows: a scenario file (relative to the
 CSV), how a real stack's run on it ended (``arrived``, ``collision``, ``timeout`` or ``failed``) and
-its time in seconds; a scenario may have many rows (repeated runs). Each scenario is measured as
-BARN measures its worlds: the mean over its runs of the time (a failure counting as ``failure_time``)
-over the length of MazeGen's shortest path, in seconds per metre. The simulator gives the same
-measure of one episode per scenario.
+its time in seconds; a scenario may have many rows (repeated runs). An optional ``length`` column
+gives the path length in metres the scenario's times are divided by (BARN's own paths, say), the same
+on each of its rows. Each scenario is measured as BARN measures its worlds: the mean over its runs of
+the time (a failure counting as ``failure_time``) over that length, or over MazeGen's shortest path
+without one, in seconds per metre. The simulator gives the same measure of one episode per scenario.
 
 The fit searches the named parameters, each in a box around its default (a quarter to four times it,
 within the parameter's bounds; counts half to twice), for the least ``(1 - ρ) + (1 - agreement)``:
@@ -38,6 +39,8 @@ from mazegen.text import number, printable
 
 COLUMNS = ("scenario", "outcome", "time")
 """The columns of a measured-runs CSV, in any order."""
+OPTIONAL_COLUMNS = ("length",)
+"""Columns it may have besides."""
 MEASURED_OUTCOMES = ("arrived", "collision", "timeout", "failed")
 POPULATION = 16
 """Parameter sets the cross-entropy method draws at a time."""
@@ -47,11 +50,13 @@ ELITES = 4
 
 @dataclass(frozen=True)
 class Measured:
-    """The measured runs of one scenario: whether each arrived, and its time (seconds)."""
+    """The measured runs of one scenario: whether each arrived, and its time (seconds); the path
+    length its times are divided by (metres), when the measurements give one."""
 
     scenario: Path
     arrived: tuple[bool, ...]
     time: tuple[float, ...]
+    length_m: float | None = None
 
     def measure(self, failure_time: float, length_m: float) -> float:
         """BARN's measure of the runs: mean time (a failure counting ``failure_time``) per metre of path."""
@@ -78,7 +83,7 @@ def read_measured(path: Path) -> list[Measured]:
         )
     header = [name.strip() for name in rows[0]]
     for k, name in enumerate(header):
-        if name not in COLUMNS or name in header[:k]:
+        if name not in COLUMNS + OPTIONAL_COLUMNS or name in header[:k]:
             what = "repeated" if name in header[:k] else "unknown"
             raise MazeError(
                 f"{what} column {printable(name)!r}: a measured run is {', '.join(COLUMNS)}",
@@ -92,6 +97,7 @@ def read_measured(path: Path) -> list[Measured]:
             line=1,
         )
     runs: dict[Path, tuple[list[bool], list[float]]] = {}
+    lengths: dict[Path, float] = {}
     for line, row in enumerate(rows[1:], start=2):
         if not any(cell.strip() for cell in row):
             continue
@@ -103,22 +109,49 @@ def read_measured(path: Path) -> list[Measured]:
                 f"outcome {printable(values['outcome'])!r} is not one of {', '.join(MEASURED_OUTCOMES)}",
                 filename=str(path), line=line,
             )  # fmt: skip
-        try:
-            seconds = float(values["time"])
-        except ValueError:
-            seconds = math.nan
-        if not (math.isfinite(seconds) and seconds >= 0):
+        seconds = _number(values["time"])
+        if not seconds >= 0:
             raise MazeError(
                 f"time {printable(values['time'])!r} is not a number of seconds",
                 filename=str(path),
                 line=line,
             )
-        arrived, times = runs.setdefault(path.parent / values["scenario"], ([], []))
+        scenario = path.parent / values["scenario"]
+        if "length" in values:
+            _note_length(lengths, scenario, values["length"], path, line)
+        arrived, times = runs.setdefault(scenario, ([], []))
         arrived.append(values["outcome"] == "arrived")
         times.append(seconds)
     if not runs:
         raise MazeError("no measured runs below the header", filename=str(path))
-    return [Measured(scenario, tuple(ok), tuple(t)) for scenario, (ok, t) in runs.items()]
+    return [
+        Measured(scenario, tuple(ok), tuple(t), lengths.get(scenario)) for scenario, (ok, t) in runs.items()
+    ]
+
+
+def _number(text: str) -> float:
+    """``text`` as a finite number, NaN when it is none."""
+    try:
+        value = float(text)
+    except ValueError:
+        return math.nan
+    return value if math.isfinite(value) else math.nan
+
+
+def _note_length(lengths: dict[Path, float], scenario: Path, text: str, path: Path, line: int) -> None:
+    """Keep the path length of a row's scenario, which its earlier rows must have given alike."""
+    metres = _number(text)
+    if not metres > 0:
+        raise MazeError(
+            f"length {printable(text)!r} is not a number of metres", filename=str(path), line=line
+        )
+    earlier = lengths.setdefault(scenario, metres)
+    if earlier != metres:
+        raise MazeError(
+            f"length {number(metres)} differs from the {number(earlier)} of this scenario's earlier runs",
+            filename=str(path),
+            line=line,
+        )
 
 
 @dataclass(frozen=True)
@@ -211,7 +244,9 @@ class FitProblem:
         self.length_m = np.array(
             [
                 float(f.population.measured["navigation"].path_length[0]) * u
-                for f, u in zip(self.floors, self.units)
+                if m.length_m is None
+                else m.length_m
+                for f, u, m in zip(self.floors, self.units, measured)
             ]
         )
         self.measured = measured

@@ -81,6 +81,12 @@ def test_the_written_robot_block_imports_into_a_spec_and_the_same_seed_writes_th
         ("scenario,outcome,time\nx.json,crashed,3\n", 2, "outcome 'crashed' is not one of"),
         ("scenario,outcome,time\nx.json,arrived,3\nx.json,arrived,nan\n", 3, "time 'nan' is not a number"),
         ("scenario,outcome,time\nx.json,arrived\n", 2, "2 values, expected 3"),
+        ("scenario,outcome,time,length\nx.json,arrived,3,0\n", 2, "length '0' is not a number of metres"),
+        (
+            "scenario,length,outcome,time\nx.json,5,arrived,3\nx.json,6,timeout,9\n",
+            3,
+            "length 6 differs from the 5",
+        ),
     ],
 )
 def test_a_bad_measured_file_is_one_line_at_its_line(tmp_path, rows, line, message):
@@ -91,6 +97,26 @@ def test_a_bad_measured_file_is_one_line_at_its_line(tmp_path, rows, line, messa
     assert caught.value.line == line
     result = CliRunner().invoke(main, ["fit", str(path), "-c", "dwa", "-o", str(tmp_path / "r.maze")])
     assert result.exit_code == 1 and len(result.stderr.splitlines()) == 1 and f":{line}:" in result.stderr
+
+
+def test_a_length_column_is_what_the_times_are_divided_by(measured, tmp_path):
+    """The measure of a scenario with a measured path length (BARN's, say) is its time over that
+    length, the simulated as the measured; without one, over MazeGen's shortest path."""
+    lines = measured.read_text().splitlines()
+    given = [round(1.5 + 0.25 * k, 2) for k in range(len(lines) - 1)]
+    (tmp_path / "floors").symlink_to(measured.parent / "floors")
+    with_length = tmp_path / "measured.csv"
+    rows = [f"{lines[0]},length"] + [f"{line},{metres}" for line, metres in zip(lines[1:], given)]
+    with_length.write_text("\n".join(rows) + "\n")
+    plain, runs = read_measured(measured), read_measured(with_length)
+    assert [m.length_m for m in plain] == [None] * len(plain) and [m.length_m for m in runs] == given
+    own, by_length = FitProblem(plain, "dwa", 30.0), FitProblem(runs, "dwa", 30.0)
+    assert np.array_equal(by_length.length_m, given) and not np.allclose(own.length_m, given)
+    assert np.allclose(by_length.target * by_length.length_m, own.target * own.length_m)
+    space = SearchSpace.of("dwa", list(TRUTH))
+    rows = np.arange(len(runs))
+    simulated, arrived = by_length.simulate(space, np.array(list(TRUTH.values())), rows)
+    assert np.allclose(simulated, by_length.target) and np.array_equal(arrived, by_length.mostly_arrived)
 
 
 def test_only_a_bundled_controllers_own_parameters_are_fitted():
