@@ -6,10 +6,11 @@ Usage:
     python benchmarks/barn_fit.py --controller dwa --params horizon,obstacle_weight --budget 64
 
 The floors are ``barn_validation.py``'s: the 150 training worlds of ``../shared/anchors/barn/`` imported
-with ``mazegen import`` (a robot of ``--robot-radius``, the Jackal's half-length by default), each with
+with ``mazegen import`` (for a robot of ``--robot-radius``, the Jackal's half-length by default), each with
 the start and goal of BARN's 2020 timing runs. Each world's spec drives the Jackal as those runs timed
-it (arrival within √0.1 m, no stuck timeout, time for 50 s of clock, backing up for ``movebase``), and
-``measured.csv`` holds its five measured DWA runs. ``mazegen fit``'s search (the cross-entropy method,
+it (arrival within √0.1 m, no stuck timeout, time for 50 s of clock, backing up for ``movebase``, its
+0.508 x 0.430 m body the box the simulator collides unless ``--disc``), and ``measured.csv`` holds its
+five measured DWA runs with BARN's path length. ``mazegen fit``'s search (the cross-entropy method,
 ``--seed``) fits ``--params`` on every world after ``--folds``-fold cross-validation. Then every world
 is driven under the 2020 protocol (``barn_validation.py``) three ways: with the defaults, with the
 parameters fitted on all worlds, and with the parameters fitted on the other folds (held out): the
@@ -53,21 +54,23 @@ FIT_COLUMNS = [
 ]
 
 
-def timed_specs(worlds: list, contact: str, reverse: bool) -> None:
+def timed_specs(worlds: list, contact: str, reverse: bool, box: bool) -> None:
     """Give each world's spec the Jackal as the 2020 runs timed it, so the fit drives that robot."""
     for world in worlds:
         spec = dataclasses.replace(
-            world.floors.spec, robot=timed_robot(world.floors, contact, reverse=reverse)
+            world.floors.spec, robot=timed_robot(world.floors, contact, reverse=reverse, box=box)
         )
         (Path(world.floors.files[0]).parent / "spec.json").write_text(spec.to_json(), encoding="utf-8")
 
 
-def protocol_clocks(worlds: list, controller: str, robot_files: list[tuple[Path, np.ndarray]]) -> np.ndarray:
+def protocol_clocks(
+    worlds: list, controller: str, robot_files: list[tuple[Path, np.ndarray]], box: bool
+) -> np.ndarray:
     """Each world's 2020 clock, driven with the settings of the robot block that covers its row."""
     clocks = np.empty(len(worlds))
     for file, rows in robot_files:
         chosen = [worlds[k] for k in rows.tolist()]
-        clocks[rows] = measured(chosen, controller, "end", fitted_controllers(file, worlds[0]))
+        clocks[rows] = measured(chosen, controller, "end", fitted_controllers(file, worlds[0]), box=box)
     return clocks
 
 
@@ -81,14 +84,19 @@ def main() -> None:
     parser.add_argument("--budget", type=int, default=160, help="drives of every world a fit may make")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument(
-        "--robot-radius", type=float, default=0.254, help="the disc the simulator collides, m"
-    )
+        "--robot-radius", type=float, default=0.254,
+        help="the arena's robot radius the worlds are imported for (MazeGen's path and fields), m",
+    )  # fmt: skip
+    parser.add_argument(
+        "--disc", action="store_true",
+        help="collide the disc of the robot radius, not the Jackal's 0.508 x 0.430 m body",
+    )  # fmt: skip
     args = parser.parse_args()
     names = [name for name in args.params.split(",") if name]
     with tempfile.TemporaryDirectory(prefix="mazegen-barn-fit-") as temp:
         folder = Path(temp)
         worlds = load_worlds(folder, args.robot_radius)
-        timed_specs(worlds, "end", reverse=args.controller == "movebase")
+        timed_specs(worlds, "end", reverse=args.controller == "movebase", box=not args.disc)
         write_measured(worlds, folder / "measured.csv")
         problem = FitProblem(read_measured(folder / "measured.csv"), args.controller, FAILURE_S)
         space = SearchSpace.of(args.controller, names)
@@ -105,12 +113,14 @@ def main() -> None:
             blocks.append(file)
         every = np.arange(len(worlds))
         clocks = {
-            "defaults": measured(worlds, args.controller, "end"),
-            "fitted on all worlds": protocol_clocks(worlds, args.controller, [(blocks[0], every)]),
+            "defaults": measured(worlds, args.controller, "end", box=not args.disc),
+            "fitted on all worlds": protocol_clocks(
+                worlds, args.controller, [(blocks[0], every)], box=not args.disc
+            ),
         }
         if found.folds:  # (none with --folds 1)
             clocks["fitted on the other folds (held out)"] = protocol_clocks(
-                worlds, args.controller, list(zip(blocks[1:], found.folds))
+                worlds, args.controller, list(zip(blocks[1:], found.folds)), box=not args.disc
             )
         fitted_block = blocks[0].read_text(encoding="utf-8")
     print(

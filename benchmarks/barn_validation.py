@@ -9,9 +9,10 @@ timing runs (``start_goal_timer_2020``). The other 150 worlds are held out: this
 them, and nothing here is fitted to any world.
 
 Each controller drives every world as the 2020 runs were timed (``jackal_timer``): the Jackal's limits
-(0.5 m/s, 1.57 rad/s), the clock starting when the robot is √0.1 m from its start, arrival within √0.1 m
-of the goal, a run stopped at 50 s. Per world, BARN's measure: time over BARN's path length, a failure
-(a collision, no arrival, or 50 s) counting as 30 s. Each controller drives twice: a touch ending the
+(0.5 m/s, 1.57 rad/s) and body (a 0.508 x 0.430 m box; ``--disc`` for the arena's disc), the clock
+starting when the robot is √0.1 m from its start, arrival within √0.1 m of the goal, a run stopped at
+50 s. Per world, BARN's measure: time over BARN's path length, a failure (a collision, no arrival, or
+50 s) counting as 30 s. Each controller drives twice: a touch ending the
 run (MazeGen's default) and a touch carrying on (``contact continue``: Gazebo's physics, where the
 timer records no collisions). Against the worlds' measured DWA runs (5 each):
 
@@ -43,7 +44,7 @@ from mazegen.controllers import BY_CODE
 from mazegen.runtime.documents import Floors, load_floor
 from mazegen.runtime.navigation import navigation_of, spearman
 from mazegen.runtime.simulation import ARRIVED, DriveRequest, drive_many
-from mazegen.spec import CONTACT_MODES, ControllerSpec
+from mazegen.spec import CONTACT_MODES, ControllerSpec, metres_per_unit
 
 TIMER_RADIUS = math.sqrt(0.1)
 """jackal_timer's start and arrival radius, metres: the clock starts once the robot is this far
@@ -53,6 +54,8 @@ STOP_S = 50.0
 FAILURE_S = 30.0
 """What BARN counts a failed run as, seconds."""
 GOALS = {"rho": 0.75, "success_points": 5.0, "failure_agreement": 0.90}
+JACKAL = (0.508, 0.430)
+"""The Jackal's body, length by width, metres: the box Gazebo collides (and the simulator, by default)."""
 SUMMARY = [
     ("measure", "measure", "s"),
     ("rho", "Spearman ρ vs BARN DWA", ".2f"),
@@ -100,18 +103,27 @@ def load_worlds(folder: Path, radius: float) -> list[World]:
 
 
 def timed_robot(
-    floors: Floors, contact: str, controllers: tuple[ControllerSpec, ...] = (), *, reverse: bool = False
+    floors: Floors,
+    contact: str,
+    controllers: tuple[ControllerSpec, ...] = (),
+    *,
+    reverse: bool = False,
+    box: bool = True,
 ):
     """The floor's robot as the 2020 runs timed it: arrival within √0.1 m, and time enough for 50 s of
     clock after leaving the start (the timeout is a multiple of the optimal time), never cut short for
     lack of progress; ``contact`` what a touch does; ``controllers`` settings of controllers (a fitted
-    robot block's), if any; ``reverse``: the Jackal backs up at up to its speed (move_base's escape)."""
+    robot block's), if any; ``reverse``: the Jackal backs up at up to its speed (move_base's escape);
+    ``box``: it collides as the Jackal's body, :data:`JACKAL`, not as the disc of the arena's radius."""
     robot = floors.robot
     optimal = float(navigation_of(floors.population).path_length[0]) / robot.max_speed
     timeout = (STOP_S + 10.0) / optimal
-    changes = {"controllers": controllers} if controllers else {}
+    changes: dict = {"controllers": controllers} if controllers else {}
     if reverse:
         changes["min_speed"] = -robot.max_speed
+    if box:
+        units = metres_per_unit(floors.spec.arena)
+        changes["footprint"] = (JACKAL[0] / units, JACKAL[1] / units)
     return dataclasses.replace(
         robot, goal_tolerance=TIMER_RADIUS, timeout=timeout, stuck=STOP_S + 10.0, contact=contact, **changes
     )
@@ -141,12 +153,18 @@ def timed_seconds(episodes, start: tuple[float, float]) -> float:
 
 
 def measured(
-    worlds: list[World], controller: str, contact: str, controllers: tuple[ControllerSpec, ...] = ()
+    worlds: list[World],
+    controller: str,
+    contact: str,
+    controllers: tuple[ControllerSpec, ...] = (),
+    *,
+    box: bool = True,
 ) -> np.ndarray:
-    """Each world's clock for ``controller`` (with ``controllers``' settings), ``inf`` where it failed."""
+    """Each world's clock for ``controller`` (with ``controllers``' settings), ``inf`` where it failed;
+    ``box``: the robot collides as the Jackal's body (else the arena's disc)."""
     requests = []
     for world in worlds:
-        robot = timed_robot(world.floors, contact, controllers, reverse=controller == "movebase")
+        robot = timed_robot(world.floors, contact, controllers, reverse=controller == "movebase", box=box)
         requests.append(DriveRequest(world.floors.population, robot, robot.controller(controller)))
     driven = drive_many(requests, record=True)
     return np.array(
@@ -212,8 +230,12 @@ def main() -> None:
     )
     parser.add_argument(
         "--robot-radius", type=float, default=0.3,
-        help="the disc the simulator collides, metres (default BARN's C-space radius 0.3; the Jackal is "
-        "0.508 x 0.430 m)",
+        help="the arena's robot radius the worlds are imported for (MazeGen's path and fields), metres "
+        "(default BARN's C-space radius 0.3)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--disc", action="store_true",
+        help="collide the disc of the robot radius, not the Jackal's 0.508 x 0.430 m body",
     )  # fmt: skip
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="mazegen-barn-") as folder:
@@ -224,7 +246,7 @@ def main() -> None:
         print(f"kept the imported worlds and their measured runs in {args.keep / 'measured.csv'}\n")
     fitted = f", {args.robot.name}" if args.robot is not None else ""
     clocks = {
-        f"{name}{fitted}, contact {contact}": measured(worlds, name, contact, settings)
+        f"{name}{fitted}, contact {contact}": measured(worlds, name, contact, settings, box=not args.disc)
         for name in args.controllers
         for contact in args.contact
     }

@@ -21,9 +21,13 @@ LIDAR, PATH, FIELDS, COSTMAP = "lidar", "path", "fields", "costmap"
 MazeGen's path, the navigation and clearance fields, and a move_base costmap with its planners'
 fields (all at the controller's own ``resolution``)."""
 
-LIMITS = ("max_speed", "min_speed", "max_turn", "accel", "turn_accel", "step", "radius", "goal_tolerance")
+LIMITS = (
+    "max_speed", "min_speed", "max_turn", "accel", "turn_accel", "step", "radius", "goal_tolerance",
+    "length", "width",
+)  # fmt: skip
 """The robot's limits in the order of the ``limits`` array every kernel reads (and a user's policy
-sees): the spec's robot block, and the arena's robot radius."""
+sees): the spec's robot block, the arena's robot radius, and the box the simulator collides (its
+``footprint``; length and width 0 for the disc of the radius)."""
 
 
 @dataclass(frozen=True)

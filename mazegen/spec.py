@@ -478,7 +478,7 @@ class ControllerSpec:
 
 @dataclass(frozen=True)
 class Robot:
-    """The driven robot: a disc of the arena's robot radius with unicycle kinematics.
+    """The driven robot: a disc of the arena's robot radius, or a box, with unicycle kinematics.
 
     Lengths are in arena units, times in seconds, angles in radians. :func:`robot_for` gives the
     defaults for an arena (the BARN challenge's Jackal limits scaled to the arena's unit).
@@ -499,6 +499,9 @@ class Robot:
         contact: What a touch does (:data:`CONTACT_MODES`): ``end`` the episode, a collision (MazeGen's
             verdict, and a test's), or ``continue`` it as Gazebo does, the robot stopped short of the
             obstacle and each touch counted.
+        footprint: ``(length, width)`` of the box the simulator collides, its length along the
+            heading, centred on the robot's centre (a Jackal is 0.508 x 0.430 m); None: the disc of
+            the arena's robot radius. The floor's path and fields keep to the radius either way.
     """
 
     max_speed: float
@@ -516,6 +519,7 @@ class Robot:
     driven: float = 0.1
     controllers: tuple[ControllerSpec, ...] = ()
     contact: str = "end"
+    footprint: tuple[float, float] | None = None
 
     def controller(self, name: str) -> ControllerSpec:
         """The spec's settings of controller ``name`` (none set: its defaults)."""
@@ -700,6 +704,8 @@ class Spec:
                 del term["plugin"]
         if body["robot"] is not None and body["robot"]["contact"] == "end":  # likewise before contacts
             del body["robot"]["contact"]
+        if body["robot"] is not None and body["robot"]["footprint"] is None:  # likewise before boxes
+            del body["robot"]["footprint"]
         if body["arena"]["base"] is None:  # likewise before base maps and zones
             del body["arena"]["base"]
         for key in ("zones", "stations", "tasks"):  # likewise before zones and tasks
@@ -856,4 +862,7 @@ def _robot_from_dict(data: dict[str, Any] | None) -> Robot | None:
         ControllerSpec(c["name"], tuple((str(k), float(v)) for k, v in c["params"]))
         for c in data["controllers"]
     )
-    return Robot(**{**data, "controllers": controllers})
+    footprint = data.get("footprint")
+    if footprint is not None:
+        footprint = (float(footprint[0]), float(footprint[1]))
+    return Robot(**{**data, "controllers": controllers, "footprint": footprint})

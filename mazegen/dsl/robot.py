@@ -74,6 +74,7 @@ _LABELS = {
     "TimeoutSetting": "timeout factor",
     "StuckSetting": "stuck",
     "ContactSetting": "contact",
+    "FootprintSetting": "footprint",
     "BeamsSetting": "beams",
     "FovSetting": "fov",
     "LidarRangeSetting": "range",
@@ -251,6 +252,9 @@ def convert_robot(
         if kind == "ContactSetting":
             changes["contact"] = node.mode
             continue
+        if kind == "FootprintSetting":
+            changes["footprint"] = _footprint(node)
+            continue
         setting = _SETTINGS[_LABELS[kind]]
         changes[setting.field] = _setting_value(node, setting)
     robot = robot_for(arena, **changes)
@@ -279,6 +283,14 @@ def _check_policies_found(blocks: list[Any], term_nodes: list[Any]) -> None:
         looked_for.add(module)
         if not policy_module_found(module):
             fail(node, f"controller '{name}': no module '{module}' in {SEARCHED}")
+
+
+def _footprint(node: Any) -> tuple[float, float]:
+    for side, value in (("length", node.length), ("width", node.width)):
+        if not 0 < value <= MAX_LENGTH:
+            bounds = f"(0, {MAX_LENGTH:.15g}] arena units"
+            fail(node, f"footprint {side} must be within {bounds}, got {value:.15g}")
+    return float(node.length), float(node.width)
 
 
 def _fraction(node: Any) -> float:

@@ -534,7 +534,19 @@ BAD_SPECS = [
         spec(tail="robot { sped 50 }\n"),
         "4:9",
         "expected 'speed', 'min', 'turn', 'acceleration', 'step', 'goal', 'timeout', 'stuck', 'contact', "
-        "'lidar', 'drive', 'controller' or '}', found 'sped'",
+        "'footprint', 'lidar', 'drive', 'controller' or '}', found 'sped'",
+    ),
+    (
+        "robot: a footprint is a length by a width",
+        spec(tail="robot { footprint 50 x 43 }\n"),
+        "4:22",
+        "expected 'by', found 'x'",
+    ),
+    (
+        "robot: a footprint has a positive width",
+        spec(tail="robot { footprint 50 by 0 }\n"),
+        "4:9",
+        "footprint width must be within (0, 1000000] arena units, got 0",
     ),
     (
         "robot: what a touch does is end or continue",

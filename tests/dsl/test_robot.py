@@ -23,7 +23,7 @@ FULL = (
     + """
 robot {
     speed 60  min speed 5  turn rate 90  acceleration 1000  turn acceleration 180
-    step 0.05  goal tolerance 25  timeout factor 6  stuck 8  contact continue
+    step 0.05  goal tolerance 25  timeout factor 6  stuck 8  contact continue  footprint 50.8 by 43
     lidar { beams 180  fov 270  range 300 }
     drive best 0.2
     controller purepursuit { lookahead 45  rotate_to_heading 30 }
@@ -47,6 +47,7 @@ def test_the_robot_block_sets_limits_in_arena_units_and_angles_in_radians(write_
     assert robot.turn_accel == pytest.approx(math.pi)
     assert (robot.step, robot.goal_tolerance, robot.timeout, robot.stuck) == (0.05, 25, 6, 8)
     assert robot.contact == "continue"
+    assert robot.footprint == (50.8, 43.0)
     assert (robot.beams, robot.lidar_range, robot.driven) == (180, 300, 0.2)
     assert robot.fov == pytest.approx(1.5 * math.pi)
 
@@ -88,7 +89,9 @@ def test_drive_all_drives_every_individual(write_spec):
 def test_the_robot_survives_spec_json(write_spec):
     spec = load_spec(write_spec(FULL))
     again = Spec.from_json(spec.to_json())
-    assert again == spec
+    assert again == spec and again.robot.footprint == (50.8, 43.0)
+    disc = load_spec(write_spec(HEAD + "robot { }\n"))
+    assert "footprint" not in disc.to_json() and Spec.from_json(disc.to_json()) == disc  # as before boxes
     assert again.robot is not None and again.robot.controllers[0].params == spec.robot.controllers[0].params
 
 

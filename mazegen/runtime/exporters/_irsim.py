@@ -1,6 +1,7 @@
 """IR-SIM worlds: one YAML per scenario that ``irsim.make(path)`` loads.
 
-The world holds one differential-drive robot, a disc of the arena's robot radius at the start,
+The world holds one differential-drive robot, a disc of the arena's robot radius (the box of its
+``footprint``, when the robot block gives one) at the start,
 heading toward the goal, with the driven robot's limits (the spec's robot block, else
 :func:`mazegen.spec.robot_for` the arena) and its 2D lidar; and one static obstacle per convex
 part of every element (a ``rectangle`` when the part is one, else a ``polygon``), for a floor built
@@ -87,6 +88,14 @@ def _beams(beams: int, fov: float) -> str:
     )
 
 
+def _shape(robot: Robot, radius_m: float, metres: float) -> str:
+    """The robot's IR-SIM shape: the box of its footprint, centred on it, else the arena's disc."""
+    if robot.footprint is None:
+        return f"{{name: circle, radius: {yaml_number(radius_m)}}}"
+    length, width = (side * metres for side in robot.footprint)
+    return f"{{name: rectangle, length: {yaml_number(length)}, width: {yaml_number(width)}}}"
+
+
 def _robot(floor: Floor, metres: float) -> list[str]:
     robot = floor_robot(floor)
     arena = floor.arena
@@ -102,7 +111,7 @@ def _robot(floor: Floor, metres: float) -> list[str]:
         "robot:",
         "  - name: robot",
         "    kinematics: {name: diff}",
-        f"    shape: {{name: circle, radius: {yaml_number(float(arena['robot_radius']) * metres)}}}",
+        f"    shape: {_shape(robot, float(arena['robot_radius']) * metres, metres)}",
         f"    state: {_flow((x * metres, y * metres, heading))}",
         f"    goal: {_flow((gx, gy, heading))}",
         f"    goal_threshold: {yaml_number(robot.goal_tolerance * metres)}",

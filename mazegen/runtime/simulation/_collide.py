@@ -103,7 +103,7 @@ def part_entry(px, py, dx, dy, vertices, n, r):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _wall_entry(q, qd, r, far):  # pragma: no cover - compiled
+def wall_entry(q, qd, r, far):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``q + t·qd`` is within ``r`` of 0 or of ``far``."""
     if q <= r or q >= far - r:
         return 0.0
@@ -117,7 +117,7 @@ def _wall_entry(q, qd, r, far):  # pragma: no cover - compiled
 
 
 @njit(cache=True, inline="always")
-def _segment_distance2(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
+def segment_distance2(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
     """Squared distance from ``p`` to segment ``ab``."""
     ex = bx - ax
     ey = by - ay
@@ -138,7 +138,7 @@ def part_distance(px, py, vertices, n):  # pragma: no cover - compiled
     for k in range(n):
         ax, ay, bx, by, left = _edge(vertices, n, k, px, py)
         inside = inside and left
-        best = min(best, _segment_distance2(px, py, ax, ay, bx, by))
+        best = min(best, segment_distance2(px, py, ax, ay, bx, by))
     return 0.0 if inside else math.sqrt(best)
 
 
@@ -163,7 +163,7 @@ def sweep(x0, y0, x1, y1, r, floor, world):  # pragma: no cover - compiled
     first, vertices, count, box, size = world
     dx = x1 - x0
     dy = y1 - y0
-    best = min(_wall_entry(x0, dx, r, size[floor, 0]), _wall_entry(y0, dy, r, size[floor, 1]))
+    best = min(wall_entry(x0, dx, r, size[floor, 0]), wall_entry(y0, dy, r, size[floor, 1]))
     # The capsule's box: a part whose box misses it cannot be touched.
     xmin = min(x0, x1) - r
     xmax = max(x0, x1) + r

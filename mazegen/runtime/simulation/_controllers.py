@@ -23,7 +23,7 @@ from numba import njit
 # Positions in the limits array and in each controller's parameters: literals, which numba compiles
 # in as constants (a kernel's cache is keyed on the runtime's sources alone), in the order of
 # mazegen/controllers.py's LIMITS and rows; tests/runtime/simulation/test_registry.py checks them.
-MAX_SPEED, MIN_SPEED, MAX_TURN, ACCEL, TURN_ACCEL, STEP, RADIUS, GOAL_TOLERANCE = range(8)
+MAX_SPEED, MIN_SPEED, MAX_TURN, ACCEL, TURN_ACCEL, STEP, RADIUS, GOAL_TOLERANCE, LENGTH, WIDTH = range(10)
 HEADING_GAIN, TURN_IN_PLACE = range(2)
 """straight's parameters."""
 LOOKAHEAD, MIN_LOOKAHEAD, MAX_LOOKAHEAD, LOOKAHEAD_TIME = range(4)

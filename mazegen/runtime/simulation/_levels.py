@@ -48,7 +48,7 @@ class LevelRows:
         size: ``float64[n, 2]`` the arena's width and height (its walls).
         start: ``float64[n, 3]`` the start pose ``(x, y, theta)``.
         goal: ``float64[n, 2]``.
-        limits: ``float64[n, 8]`` the robot's limits (:data:`mazegen.controllers.LIMITS`).
+        limits: ``float64[n, 10]`` the robot's limits (:data:`mazegen.controllers.LIMITS`).
         path: ``float64[n, C, 2]`` the corners of the level's path, start to goal, padded: MazeGen's
             path kept :data:`PLAN_MARGIN` clear where it can.
         path_count: ``int64[n]`` corners of each path.

@@ -39,9 +39,9 @@ class Observations:
         velocity: ``float64[n, 2]`` the current speed and turn rate ``(v, w)``.
         step: Steps driven so far (0 at the first call); every robot shown has driven as many.
         floor: ``int64[n]`` the population indices of the floors the robots drive on.
-        limits: ``float64[8]`` the robot's max_speed, min_speed, max_turn, accel, turn_accel, step,
-            radius and goal_tolerance (arena units, seconds, radians;
-            :data:`mazegen.controllers.LIMITS`).
+        limits: ``float64[10]`` the robot's max_speed, min_speed, max_turn, accel, turn_accel, step,
+            radius, goal_tolerance, and its box's length and width (0 for a disc) (arena units,
+            seconds, radians; :data:`mazegen.controllers.LIMITS`).
     """
 
     scan: np.ndarray

@@ -31,7 +31,8 @@ COLUMNS = 11
 
 
 def robot_limits(robot: Robot, arena: Arena) -> np.ndarray:
-    """``float64[8]``: ``robot``'s limits in the order of :data:`mazegen.controllers.LIMITS`."""
+    """``float64[10]``: ``robot``'s limits in the order of :data:`mazegen.controllers.LIMITS`."""
+    length, width = robot.footprint or (0.0, 0.0)
     values = {
         "max_speed": robot.max_speed,
         "min_speed": robot.min_speed,
@@ -41,6 +42,8 @@ def robot_limits(robot: Robot, arena: Arena) -> np.ndarray:
         "step": robot.step,
         "radius": arena.robot_radius,
         "goal_tolerance": robot.goal_tolerance,
+        "length": length,
+        "width": width,
     }
     return np.array([values[name] for name in LIMITS], np.float64)
 

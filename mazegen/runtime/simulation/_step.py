@@ -7,15 +7,18 @@ count, the step of its last progress toward the goal and whether it ended stuck.
    (``accel · step``, ``turn_accel · step``), then to ``[min_speed, max_speed]`` and
    ``[-max_turn, max_turn]``.
 2. Forward Euler, as IR-SIM: ``x += v cos(theta) dt; y += v sin(theta) dt; theta += w dt``.
-3. The swept disc is checked exactly (:func:`mazegen.runtime.simulation._collide.sweep`). A lower
-   bound of the centre's distance to every obstacle (``SAFE``: the last distance computed, less
-   the length driven since) skips the check when no contact is possible; the verdict is exact
-   either way.
+3. The swept disc is checked exactly (:func:`mazegen.runtime.simulation._collide.sweep`), or for
+   a robot with a ``footprint`` the box moved along its heading and then turned
+   (:func:`mazegen.runtime.simulation._box.box_sweep`). A lower bound of the centre's distance to
+   every obstacle (``SAFE``: the last distance computed, less the length driven since) skips the
+   check when no point of the robot can touch (the disc's radius, the box's half diagonal); the
+   verdict is exact either way.
 4. The episode ends: **arrived** when the segment comes within ``goal_tolerance`` of the goal
    (before any contact); **collision** at the first contact, the robot left at the start of the
    step's segment and the contact centre kept, unless the robot's contacts continue (Gazebo's
    physics, where a touch ends nothing): then the robot stays at the start of the segment, its
-   speed 0, its turn made, the touch counted and the first contact's centre kept, and drives on;
+   speed 0, its turn made (a box's only if it turns there clear), the touch counted and the first
+   contact's centre kept, and drives on;
    **timeout** after ``max_steps`` steps or, stuck, after ``stuck_steps`` steps without a new best
    distance to the goal (better by at least :data:`PROGRESS` of a step at top speed).
 
@@ -35,16 +38,19 @@ import math
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.simulation._box import box_distance, box_sweep, turn_touches
 from mazegen.runtime.simulation._collide import NO_HIT, disc_entry, distance, sweep
 from mazegen.runtime.simulation._controllers import (
     ACCEL,
     GOAL_TOLERANCE,
+    LENGTH,
     MAX_SPEED,
     MAX_TURN,
     MIN_SPEED,
     RADIUS,
     STEP,
     TURN_ACCEL,
+    WIDTH,
 )
 from mazegen.runtime.simulation._episodes import ARRIVED, COLLISION, TIMEOUT
 from mazegen.runtime.simulation._state import (
@@ -110,9 +116,11 @@ def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no co
     state[m, V] = state[m, W] = state[m, DISTANCE] = 0.0
     d = distance(x, y, m, world, np.inf)
     state[m, SAFE] = d
-    state[m, CLEARANCE] = max(d - limits[RADIUS], 0.0)
+    hl, hw = 0.5 * limits[LENGTH], 0.5 * limits[WIDTH]
+    edge = box_distance(x, y, theta, hl, hw, m, world, np.inf) if hl > 0.0 else d - limits[RADIUS]
+    state[m, CLEARANCE] = max(edge, 0.0)
     state[m, BEST] = math.hypot(goal[0] - x, goal[1] - y)
-    if d <= limits[RADIUS]:
+    if edge <= 0.0:
         outcome[m] = COLLISION
         state[m, CX], state[m, CY] = x, y
     elif state[m, BEST] <= limits[GOAL_TOLERANCE]:
@@ -140,6 +148,9 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     state, outcome, steps, progress, stuck, contacts = robots
     dt = limits[m, STEP]
     r = limits[m, RADIUS]
+    hl, hw = 0.5 * limits[m, LENGTH], 0.5 * limits[m, WIDTH]
+    boxed = hl > 0.0
+    outer = math.hypot(hl, hw) if boxed else r  # no point of the robot is farther from its centre
     v = _window(command_v, state[m, V], limits[m, ACCEL] * dt, limits[m, MIN_SPEED], limits[m, MAX_SPEED])
     w = _window(command_w, state[m, W], limits[m, TURN_ACCEL] * dt, -limits[m, MAX_TURN], limits[m, MAX_TURN])
     x0, y0, theta = state[m, X], state[m, Y], state[m, THETA]
@@ -148,7 +159,12 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     x1, y1 = x0 + dx, y0 + dy
     length = abs(v) * dt
     safe = state[m, SAFE] - length  # no point of the segment is nearer an obstacle than this
-    hit = NO_HIT if safe > r else sweep(x0, y0, x1, y1, r, m, world)
+    if safe > outer:
+        hit = NO_HIT
+    elif boxed:
+        hit = box_sweep(x0, y0, theta, dx, dy, w * dt, hl, hw, m, world)
+    else:
+        hit = sweep(x0, y0, x1, y1, r, m, world)
     reach = disc_entry(x0, y0, dx, dy, goal[m, 0], goal[m, 1], limits[m, GOAL_TOLERANCE])
     steps[m] += 1
     state[m, V], state[m, W] = v, w
@@ -162,19 +178,24 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
             state[m, DISTANCE] += hit * length
             return
         state[m, V] = 0.0  # stopped short of the obstacle, as a body pressed against it is
-        state[m, THETA] = theta + w * dt
+        if not (boxed and turn_touches(x0, y0, theta, w * dt, hl, hw, m, world)):
+            state[m, THETA] = theta + w * dt
         _timeouts(m, steps, progress, stuck, outcome, max_steps, stuck_steps)
         return
     state[m, X], state[m, Y], state[m, THETA] = x1, y1, theta + w * dt
     state[m, DISTANCE] += length
-    if safe - r >= state[m, CLEARANCE] and safe > r:
+    if safe - outer >= state[m, CLEARANCE] and safe > outer:
         state[m, SAFE] = safe  # this pose can set no new closest approach
     else:
-        # Beyond CLEARANCE + r the distance cannot set a new closest approach: a cutoff a few
+        # Beyond CLEARANCE + outer the distance cannot set a new closest approach: a cutoff a few
         # steps' drive past it keeps the bound useful and the search short.
-        d = distance(x1, y1, m, world, state[m, CLEARANCE] + r + LOOKOUT * limits[m, MAX_SPEED] * dt)
+        d = distance(x1, y1, m, world, state[m, CLEARANCE] + outer + LOOKOUT * limits[m, MAX_SPEED] * dt)
         state[m, SAFE] = d
-        state[m, CLEARANCE] = min(state[m, CLEARANCE], max(d - r, 0.0))
+        if not boxed:
+            state[m, CLEARANCE] = min(state[m, CLEARANCE], max(d - r, 0.0))
+        elif d - outer < state[m, CLEARANCE]:
+            heading = theta + w * dt
+            state[m, CLEARANCE] = box_distance(x1, y1, heading, hl, hw, m, world, state[m, CLEARANCE])
     if reach <= 1.0:
         outcome[m] = ARRIVED
         return

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import shapely
+from shapely import affinity
 
 import mazegen
 from mazegen.errors import MazeError, MazeNote
@@ -203,6 +204,19 @@ def test_a_robot_without_a_lidar_has_no_sensor(tmp_path):
     base = mazegen.load(EXAMPLES / "factory.maze")
     floor = hand_floor(dataclasses.replace(base, robot=robot_for(base.arena, beams=0)), tmp_path)
     assert make(world_of(floor, tmp_path)).robot.sensors == []
+
+
+def test_a_robot_with_a_footprint_is_its_box_in_irsim(tmp_path):
+    base = mazegen.load(EXAMPLES / "factory.maze")  # an arena in cm
+    floor = hand_floor(
+        dataclasses.replace(base, robot=robot_for(base.arena, footprint=(50.8, 43.0))), tmp_path
+    )
+    robot = make(world_of(floor, tmp_path)).robot
+    (sx, sy), (gx, gy) = floor.arena["start"], floor.arena["goal"]
+    heading = math.atan2(gy - sy, gx - sx)
+    body = affinity.rotate(shapely.box(-0.254, -0.215, 0.254, 0.215), heading, (0, 0), use_radians=True)
+    expected = affinity.translate(body, sx * 0.01, sy * 0.01)
+    assert shapely.hausdorff_distance(robot.geometry, expected) < 1e-6
 
 
 def test_a_robot_whose_contacts_continue_is_exported_with_a_note_that_irsim_stops_at_contact(tmp_path):

@@ -43,7 +43,7 @@ def to_path(path: np.ndarray, x: float, y: float) -> float:
 def reference(params, pose, nav, clear, grid, path):
     """Every sample of the window scored in full: ``{(v, w): (cost, tie)}`` of the admissible ones."""
     x, y, theta, v_now, w_now = pose
-    max_speed, min_speed, max_turn, accel, turn_accel, dt, radius, _ = LIMITS
+    max_speed, min_speed, max_turn, accel, turn_accel, dt, radius = LIMITS[:7]
     v_lo, v_hi = max(min_speed, v_now - accel * dt), min(max_speed, v_now + accel * dt)
     w_lo, w_hi = max(-max_turn, w_now - turn_accel * dt), min(max_turn, w_now + turn_accel * dt)
     nv, nw, horizon, occ, pdist, gdist, inflation, decay, resolution, forward, _ = params

@@ -136,8 +136,8 @@ def _definition(function) -> ast.FunctionDef:
 def test_limits_arrays_are_built_in_limits_order():
     arena = Arena("limits", 1000, 600, "cm", (100, 100), (900, 500), 17, 10)
     changes = {"max_speed": 11, "min_speed": 2, "max_turn": 3, "accel": 40, "turn_accel": 50, "step": 0.25}
-    robot = robot_for(arena, goal_tolerance=30, **changes)
-    expected = changes | {"radius": 17, "goal_tolerance": 30}
+    robot = robot_for(arena, goal_tolerance=30, footprint=(51, 43), **changes)
+    expected = changes | {"radius": 17, "goal_tolerance": 30, "length": 51, "width": 43}
     assert dict(zip(LIMITS, robot_limits(robot, arena), strict=True)) == expected
     seen = []
 
