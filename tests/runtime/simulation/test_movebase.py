@@ -360,3 +360,30 @@ def test_the_samples_are_tried_in_numpys_stable_order_ties_by_index_and_nan_last
         keys[rng.random(n) < 0.1] = np.nan
         keys[rng.random(n) < 0.1] = np.inf
         assert stable_order(keys).tolist() == np.argsort(keys, kind="mergesort").tolist()
+
+
+def test_rollouts_from_random_poses_score_as_the_direct_computation():
+    """Every pose's outline counts, however near the edge of the inflation it passes: rollouts from
+    random poses among CLUTTER, against every outline cell traced."""
+    nav, clear, grid = fields(CLUTTER)
+    rng = np.random.default_rng(5)
+    compared, verdicts = 0, set()
+    while compared < 400:
+        pose = (
+            *rng.uniform((0.3, 0.3), (3.7, 2.7)),
+            rng.uniform(-math.pi, math.pi),
+            rng.uniform(0, 0.5),
+            0.0,
+        )
+        frame, plan, n = _plan(nav, clear, grid, pose[0], pose[1])
+        if n < 1:
+            continue
+        vs, ws = rng.uniform(0.0, 0.5), rng.uniform(-1.5, 1.5)
+        poses, _ = trajectory(PARAMS, LIMITS, np.array(pose), vs, ws)
+        expected = plain_score(nav, grid, plan[:n], pose, vs, ws)
+        assert score(PARAMS, frame, nav, clear, plan, n, poses, -1.0, math.inf) == pytest.approx(
+            expected, abs=1e-9
+        ), (pose, vs, ws)
+        compared += 1
+        verdicts.add(expected if expected < 0 else "valid")
+    assert {"valid", OFF} <= verdicts
