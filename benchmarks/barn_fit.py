@@ -2,7 +2,7 @@
 timed them: how near a fitted model comes to move_base in Gazebo, held out and not.
 
 Usage:
-    python benchmarks/barn_fit.py           # movebase, 8 parameters, 2 folds, 160 drives a fit (~20 min)
+    python benchmarks/barn_fit.py           # movebase, 8 parameters, 5 folds, 160 drives a fit (~20 min)
     python benchmarks/barn_fit.py --controller dwa --params horizon,obstacle_weight --budget 64
 
 The floors are ``barn_validation.py``'s: the 150 training worlds of ``../shared/anchors/barn/`` imported
@@ -80,7 +80,7 @@ def main() -> None:
     parser.add_argument(
         "--params", default=MOVEBASE_PARAMS, help="comma-separated (default: movebase's eight)"
     )
-    parser.add_argument("--folds", type=int, default=2)
+    parser.add_argument("--folds", type=int, default=5)
     parser.add_argument("--budget", type=int, default=160, help="drives of every world a fit may make")
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument(

@@ -290,7 +290,8 @@ def _joined(planned: list[_Plan], record: bool) -> DriveState:
     robots.outcome[np.isnan(optimal)] = NO_PATH
     if m:
         poses = np.concatenate([plan.poses for plan in planned])
-        begin_all(poses, setup.limits, setup.goal, setup.world.arrays, robots.state, robots.outcome)
+        arrays = (setup.world.arrays, robots.state, robots.outcome, setup.boxes)
+        begin_all(poses, setup.limits, setup.goal, *arrays)
     groups = tuple(plan.group for plan in planned)
     return DriveState(groups, planned[0].choice, optimal, setup, robots, record)
 

@@ -43,6 +43,7 @@ def run_bundled(drive: DriveState, fields: tuple) -> None:
         setup.reach,
         robots.arrays,
         robots.trajectory,
+        setup.boxes,
         per_thread=32,  # episodes differ in length: many small blocks even them out
     )
 
@@ -118,11 +119,12 @@ def run_all(
     reach,
     robots,
     trajectory,
+    boxes,
 ):  # pragma: no cover - compiled
     """Drive robots ``first`` to ``last - 1``, those still active, to the end of their episodes with the
     controller whose slot is given (:func:`controller_slots`), each with its row of ``params``.
 
-    ``episode`` and ``robots`` are as :func:`mazegen.runtime.simulation._step.advance` takes them;
+    ``episode``, ``robots`` and ``boxes`` are as :func:`mazegen.runtime.simulation._step.advance` takes them;
     ``fields`` is ``(nav, clear, grid)``: per-floor fields on grids of their own (``grid[f]`` = ``(x0,
     y0, cell, rows, cols)``; the arrays padded to the largest grid with what the controllers read
     off a grid, ``inf`` and 0), or one dummy shared by all floors;
@@ -156,5 +158,5 @@ def run_all(
                 straight, purepursuit, dwa, vfh, movebase, robot_params, robot_limits, pose, robot_goal,
                 floor_nav, floor_clear, floor_grid, path, ranges, angles, memory, out,
             )  # fmt: skip
-            advance(m, out[0], out[1], world, episode, robots)
+            advance(m, out[0], out[1], world, episode, robots, boxes)
             _record(trajectory, m, steps[m], state)

@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.controllers import BUNDLED, LIDAR
+from mazegen.controllers import BUNDLED, LIDAR, LIMITS
 from mazegen.errors import MazeError
 from mazegen.runtime.compiling import inner_kernel
 from mazegen.runtime.simulation._episodes import ARRIVED, TIMEOUT
@@ -76,7 +76,7 @@ class Slots:
         self.levels = LevelRows(  # what each slot plays: nothing yet, one padding part each
             parts=np.zeros((n, 1, 3, 2)), count=np.zeros((n, 1), np.int64),
             box=np.tile(INERT_BOX, (n, 1, 1)), size=np.ones((n, 2)), start=np.zeros((n, 3)),
-            goal=np.zeros((n, 2)), limits=np.ones((n, 8)), path=np.zeros((n, 1, 2)),
+            goal=np.zeros((n, 2)), limits=np.ones((n, len(LIMITS))), path=np.zeros((n, 1, 2)),
             path_count=np.zeros(n, np.int64), optimal_time=np.full(n, np.nan),
             max_steps=np.zeros(n, np.int32), stuck_steps=np.ones(n, np.int64),
             carry_on=np.zeros(n, np.bool_), reach=np.zeros(n), scale=np.ones(n),
@@ -120,6 +120,7 @@ class Slots:
         _load_slots(
             slots, rows, self._given[1], self._ours, self._world, self.robots.arrays, self.to_go, self.reward,
             self.angles, self.capacity, self.ranges, self.to_goal, self.waypoint, self.to_waypoint,
+            _boxes(levels.limits),
         )  # fmt: skip
 
     def step(self, actions: np.ndarray, weights: np.ndarray) -> np.ndarray:
@@ -132,7 +133,8 @@ class Slots:
                 _step_slots, self.n, np.ascontiguousarray(actions, np.float64), self._world, self._episode,
                 self.robots.arrays, self.levels.path, self.levels.path_count, self.levels.scale, self.to_go,
                 np.ascontiguousarray(weights, np.float64), self.angles, self.levels.reach, self.capacity,
-                self.reward, self.ranges, self.to_goal, self.waypoint, self.to_waypoint, per_thread=2,
+                self.reward, self.ranges, self.to_goal, self.waypoint, self.to_waypoint,
+                _boxes(self.levels.limits), per_thread=2,
             )  # fmt: skip
         return self.reward
 
@@ -181,6 +183,11 @@ class Slots:
         self._ours = tuple(levels.arrays.values())
 
 
+def _boxes(limits: np.ndarray) -> np.ndarray | None:
+    """``limits`` when any of their robots is a box, else None (as :attr:`._state.Setup.boxes`)."""
+    return limits if limits[:, LIMITS.index("length")].any() else None
+
+
 def _shapes(levels: LevelRows) -> tuple[int, int, int]:
     """Parts, vertices per part and path corners a row of ``levels`` holds."""
     return levels.parts.shape[1], levels.parts.shape[2], levels.path.shape[1]
@@ -189,7 +196,7 @@ def _shapes(levels: LevelRows) -> tuple[int, int, int]:
 @njit(cache=True)
 def _load_slots(
     slots, rows, given, ours, world, robots, to_go, reward, angles, capacity, ranges, to_goal, waypoint,
-    to_waypoint,
+    to_waypoint, boxes,
 ):  # fmt: skip  # pragma: no cover - compiled
     """Copy level ``rows[j]`` of ``given`` (:class:`LevelRows`' arrays in field order) into slot
     ``slots[j]`` of ``ours`` (padding what it leaves of the slot's parts, vertices and path), put the
@@ -228,7 +235,7 @@ def _load_slots(
         stuck[m] = False
         outcome[m] = ACTIVE
         reward[m] = 0.0
-        begin(m, start[m, 0], start[m, 1], start[m, 2], limits[m], goal[m], world, state, outcome)
+        begin(m, start[m, 0], start[m, 1], start[m, 2], limits[m], goal[m], world, state, outcome, boxes)
         to_go[m] = path_to_go(state[m, X], state[m, Y], path[m], path_count[m], goal[m])
         look(m, m, state, goal, angles, reach, world, near, ranges, to_goal)
         if to_waypoint.shape[0]:
@@ -244,7 +251,7 @@ def _copy_row(source, k, target, m):  # pragma: no cover - compiled
 @njit(cache=True, nogil=True)
 def _step_slots(
     first, last, actions, world, episode, robots, path, path_count, scale, to_go, weights, angles, reach,
-    capacity, reward, ranges, to_goal, waypoint, to_waypoint,
+    capacity, reward, ranges, to_goal, waypoint, to_waypoint, boxes,
 ):  # fmt: skip  # pragma: no cover - compiled
     state, outcome, contacts = robots[0], robots[1], robots[5]
     goal = episode[1]
@@ -253,7 +260,7 @@ def _step_slots(
         r = 0.0
         if outcome[m] == ACTIVE:
             touched = contacts[m]
-            advance(m, actions[m, 0], actions[m, 1], world, episode, robots)
+            advance(m, actions[m, 0], actions[m, 1], world, episode, robots, boxes)
             d = path_to_go(state[m, X], state[m, Y], path[m], path_count[m], goal[m])
             r = weights[PROGRESS] * (to_go[m] - d) * scale[m] - weights[TIME_COST]
             to_go[m] = d

@@ -67,6 +67,12 @@ class Setup:
     carry_on: np.ndarray
 
     @property
+    def boxes(self) -> np.ndarray | None:
+        """The limits when any robot collides as a box (its ``footprint``), else None: the step kernel
+        compiles its box's branches only for a drive that has one."""
+        return self.limits if self.limits[:, LIMITS.index("length")].any() else None
+
+    @property
     def episode(self) -> tuple:
         """``(limits, goal, max_steps, stuck_steps, carry_on)``: what the step kernel reads besides the
         parts."""

@@ -82,7 +82,8 @@ def step(drive: DriveState, active: np.ndarray, actions: np.ndarray) -> None:
     (``float64[len(active), 2]``, ``(v, w)``), and record their poses when poses are kept: the step
     of a caller that decides every robot's command between steps (a user's policy)."""
     setup = drive.setup
-    in_blocks(_apply, active.size, active, actions, setup.world.arrays, setup.episode, drive.robots.arrays)
+    arrays = (setup.world.arrays, setup.episode, drive.robots.arrays, setup.boxes)
+    in_blocks(_apply, active.size, active, actions, *arrays)
     record(drive, active)
 
 
@@ -94,30 +95,34 @@ def record(drive: DriveState, active: np.ndarray) -> None:
 
 
 @njit(cache=True, nogil=True)
-def _apply(first, last, active, actions, world, episode, robots):  # pragma: no cover - compiled
+def _apply(first, last, active, actions, world, episode, robots, boxes):  # pragma: no cover - compiled
     for j in range(first, last):
-        advance(active[j], actions[j, 0], actions[j, 1], world, episode, robots)
+        advance(active[j], actions[j, 0], actions[j, 1], world, episode, robots, boxes)
 
 
 @njit(cache=True)
-def begin_all(starts, limits, goal, world, state, outcome):  # pragma: no cover - compiled
+def begin_all(starts, limits, goal, world, state, outcome, boxes):  # pragma: no cover - compiled
     """Put every robot still to drive (outcome ``ACTIVE``) at its start; ``limits`` and ``goal``
     are each robot's rows."""
     for m in range(starts.shape[0]):
         if outcome[m] == ACTIVE:
-            begin(m, starts[m, 0], starts[m, 1], starts[m, 2], limits[m], goal[m], world, state, outcome)
+            x, y, theta = starts[m, 0], starts[m, 1], starts[m, 2]
+            begin(m, x, y, theta, limits[m], goal[m], world, state, outcome, boxes)
 
 
 @njit(cache=True)
-def begin(m, x, y, theta, limits, goal, world, state, outcome):  # pragma: no cover - compiled
+def begin(m, x, y, theta, limits, goal, world, state, outcome, boxes):  # pragma: no cover - compiled
     """Put robot ``m`` at its start, at rest; a start touching an obstacle is a collision and a
-    start within the goal tolerance an arrival, both after 0 steps."""
+    start within the goal tolerance an arrival, both after 0 steps. ``boxes`` as :func:`advance`
+    takes it."""
     state[m, X], state[m, Y], state[m, THETA] = x, y, theta
     state[m, V] = state[m, W] = state[m, DISTANCE] = 0.0
     d = distance(x, y, m, world, np.inf)
     state[m, SAFE] = d
-    hl, hw = 0.5 * limits[LENGTH], 0.5 * limits[WIDTH]
-    edge = box_distance(x, y, theta, hl, hw, m, world, np.inf) if hl > 0.0 else d - limits[RADIUS]
+    edge = d - limits[RADIUS]
+    if boxes is not None:  # noqa: SIM102 - a test of the argument alone, which numba prunes
+        if limits[LENGTH] > 0.0:
+            edge = box_distance(x, y, theta, 0.5 * limits[LENGTH], 0.5 * limits[WIDTH], m, world, np.inf)
     state[m, CLEARANCE] = max(edge, 0.0)
     state[m, BEST] = math.hypot(goal[0] - x, goal[1] - y)
     if edge <= 0.0:
@@ -133,7 +138,7 @@ def _window(command, current, change, low, high):  # pragma: no cover - compiled
 
 
 @njit(cache=True)
-def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cover - compiled
+def advance(m, command_v, command_w, world, episode, robots, boxes):  # pragma: no cover - compiled
     """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring.
 
     ``world`` is the floors' parts (:class:`mazegen.runtime.simulation._world.World`'s arrays);
@@ -142,6 +147,8 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     ``carry_on`` whether its contacts continue);
     ``robots`` is ``(state, outcome, steps, progress, stuck, contacts)``: what they write. (The parts are not
     in ``episode``: numba's parallel loops take no tuple nested in a tuple.)
+    ``boxes`` is None when no robot of the drive is a box (:attr:`._state.Setup.boxes`): numba then
+    leaves the box's branches out, and a drive of discs compiles none of :mod:`._box`.
     """
     limits, goal = episode[0], episode[1]  # a row each per robot, indexed, not sliced: no view a step
     max_steps, stuck_steps, carry_on = episode[2], episode[3], episode[4]
@@ -149,8 +156,7 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     dt = limits[m, STEP]
     r = limits[m, RADIUS]
     hl, hw = 0.5 * limits[m, LENGTH], 0.5 * limits[m, WIDTH]
-    boxed = hl > 0.0
-    outer = math.hypot(hl, hw) if boxed else r  # no point of the robot is farther from its centre
+    outer = math.hypot(hl, hw) if hl > 0.0 else r  # no point of the robot is farther from its centre
     v = _window(command_v, state[m, V], limits[m, ACCEL] * dt, limits[m, MIN_SPEED], limits[m, MAX_SPEED])
     w = _window(command_w, state[m, W], limits[m, TURN_ACCEL] * dt, -limits[m, MAX_TURN], limits[m, MAX_TURN])
     x0, y0, theta = state[m, X], state[m, Y], state[m, THETA]
@@ -159,12 +165,12 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
     x1, y1 = x0 + dx, y0 + dy
     length = abs(v) * dt
     safe = state[m, SAFE] - length  # no point of the segment is nearer an obstacle than this
-    if safe > outer:
-        hit = NO_HIT
-    elif boxed:
-        hit = box_sweep(x0, y0, theta, dx, dy, w * dt, hl, hw, m, world)
-    else:
-        hit = sweep(x0, y0, x1, y1, r, m, world)
+    hit = NO_HIT
+    if safe <= outer:  # (else no point of the robot can touch)
+        if hl == 0.0:
+            hit = sweep(x0, y0, x1, y1, r, m, world)
+        elif boxes is not None:
+            hit = box_sweep(x0, y0, theta, dx, dy, w * dt, hl, hw, m, world)
     reach = disc_entry(x0, y0, dx, dy, goal[m, 0], goal[m, 1], limits[m, GOAL_TOLERANCE])
     steps[m] += 1
     state[m, V], state[m, W] = v, w
@@ -178,8 +184,10 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
             state[m, DISTANCE] += hit * length
             return
         state[m, V] = 0.0  # stopped short of the obstacle, as a body pressed against it is
-        if not (boxed and turn_touches(x0, y0, theta, w * dt, hl, hw, m, world)):
-            state[m, THETA] = theta + w * dt
+        state[m, THETA] = theta + w * dt
+        if boxes is not None:  # noqa: SIM102 - a test of the argument alone, which numba prunes
+            if hl > 0.0 and turn_touches(x0, y0, theta, w * dt, hl, hw, m, world):
+                state[m, THETA] = theta
         _timeouts(m, steps, progress, stuck, outcome, max_steps, stuck_steps)
         return
     state[m, X], state[m, Y], state[m, THETA] = x1, y1, theta + w * dt
@@ -191,11 +199,12 @@ def advance(m, command_v, command_w, world, episode, robots):  # pragma: no cove
         # steps' drive past it keeps the bound useful and the search short.
         d = distance(x1, y1, m, world, state[m, CLEARANCE] + outer + LOOKOUT * limits[m, MAX_SPEED] * dt)
         state[m, SAFE] = d
-        if not boxed:
+        if hl == 0.0:
             state[m, CLEARANCE] = min(state[m, CLEARANCE], max(d - r, 0.0))
-        elif d - outer < state[m, CLEARANCE]:
-            heading = theta + w * dt
-            state[m, CLEARANCE] = box_distance(x1, y1, heading, hl, hw, m, world, state[m, CLEARANCE])
+        elif boxes is not None:  # noqa: SIM102 - a test of the argument alone, which numba prunes
+            if d - outer < state[m, CLEARANCE]:  # (else the box is no nearer than the closest so far)
+                heading = theta + w * dt
+                state[m, CLEARANCE] = box_distance(x1, y1, heading, hl, hw, m, world, state[m, CLEARANCE])
     if reach <= 1.0:
         outcome[m] = ARRIVED
         return

@@ -129,15 +129,21 @@ GAP = [("vwall", 2.0, 0.625, 0.1, 1.25, 0), ("vwall", 2.0, 2.375, 0.1, 1.25, 0)]
 """A wall across YARD with a 0.5 m gap on the straight route."""
 
 
+def full_speed_ahead(observations):
+    """A user's policy: straight on at top speed, stepped between the kernels' steps."""
+    return np.column_stack([np.full(observations.floor.size, 0.5), np.zeros(observations.floor.size)])
+
+
+@pytest.mark.parametrize("controller", ["straight", full_speed_ahead], ids=["bundled", "policy"])
 @pytest.mark.parametrize(("width", "arrives"), [(0.4, True), (0.6, False)])
-def test_the_boxs_width_not_the_arenas_radius_decides_a_gap(width, arrives):
+def test_the_boxs_width_not_the_arenas_radius_decides_a_gap(width, arrives, controller):
     floors = population(YARD, [GAP])
     robot = robot_for(YARD, footprint=(0.5, width))
-    episodes = drive(floors, robot=robot, controller="straight")
+    episodes = drive(floors, robot=robot, controller=controller)
     assert episodes.outcome[0] == (ARRIVED if arrives else COLLISION)
     if arrives:  # its closest approach is the box's to the gap's sides
         assert episodes.clearance[0] == pytest.approx((0.5 - width) / 2, abs=0.02)
     else:  # it touched with its front corners at the wall's face
         assert episodes.collision[0, 0] + 0.25 == pytest.approx(1.95, abs=1e-9)
-    disc = drive(floors, robot=robot_for(YARD), controller="straight")
+    disc = drive(floors, robot=robot_for(YARD), controller=controller)
     assert disc.outcome[0] == ARRIVED  # the arena's 0.2 m disc passes either way
