@@ -22,9 +22,9 @@ FLOORS = [
 ]
 
 
-def levels_and_floors(beams: int = 36) -> tuple[Levels, object, object]:
+def levels_and_floors(beams: int = 36, footprint=None) -> tuple[Levels, object, object]:
     floors = population(ARENA, FLOORS)
-    robot = robot_for(ARENA, beams=beams)
+    robot = robot_for(ARENA, beams=beams, footprint=footprint)
     rows = np.arange(len(FLOORS))
     return population_levels(floors, robot, rows, np.zeros(len(rows), np.int64), "hall"), floors, robot
 
@@ -44,9 +44,13 @@ def first_episodes(env: FloorVectorEnv, controller: str) -> tuple[list[np.ndarra
     return poses, steps, outcome
 
 
-@pytest.mark.parametrize("controller", ["straight", "vfh"])
-def test_driven_by_a_bundled_controllers_actions_it_gives_drives_trajectories(controller):
-    levels, floors, robot = levels_and_floors()
+@pytest.mark.parametrize(
+    ("controller", "footprint"),
+    [("straight", None), ("vfh", None), ("straight", (60.0, 30.0))],
+    ids=["straight", "vfh", "straight-box"],
+)
+def test_driven_by_a_bundled_controllers_actions_it_gives_drives_trajectories(controller, footprint):
+    levels, floors, robot = levels_and_floors(footprint=footprint)
     env = FloorVectorEnv(len(levels), levels=levels, beams=36)
     env.reset(seed=0, options={"levels": levels})
     poses, steps, outcome = first_episodes(env, controller)
