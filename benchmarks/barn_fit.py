@@ -30,6 +30,7 @@ from barn_validation import (
     FAILURE_S,
     GOALS,
     SUMMARY,
+    add_body_arguments,
     fitted_controllers,
     gazebo_ceiling,
     load_worlds,
@@ -83,14 +84,7 @@ def main() -> None:
     parser.add_argument("--folds", type=int, default=5)
     parser.add_argument("--budget", type=int, default=160, help="drives of every world a fit may make")
     parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument(
-        "--robot-radius", type=float, default=0.254,
-        help="the arena's robot radius the worlds are imported for (MazeGen's path and fields), m",
-    )  # fmt: skip
-    parser.add_argument(
-        "--disc", action="store_true",
-        help="collide the disc of the robot radius, not the Jackal's 0.508 x 0.430 m body",
-    )  # fmt: skip
+    add_body_arguments(parser, 0.254)
     args = parser.parse_args()
     names = [name for name in args.params.split(",") if name]
     with tempfile.TemporaryDirectory(prefix="mazegen-barn-fit-") as temp:

@@ -212,6 +212,20 @@ def summary_row(name: str, seconds: np.ndarray, worlds: list[World]) -> dict:
     }
 
 
+def add_body_arguments(parser: argparse.ArgumentParser, radius: float) -> None:
+    """``--robot-radius`` (default ``radius``) and ``--disc``: the radius the worlds are imported for,
+    and whether the robot collides as that disc instead of the Jackal's body."""
+    parser.add_argument(
+        "--robot-radius", type=float, default=radius,
+        help=f"the arena's robot radius the worlds are imported for (MazeGen's path and fields), metres "
+        f"(default {radius:g})",
+    )  # fmt: skip
+    parser.add_argument(
+        "--disc", action="store_true",
+        help="collide the disc of the robot radius, not the Jackal's 0.508 x 0.430 m body",
+    )  # fmt: skip
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--controllers", nargs="+", default=[row.name for row in BY_CODE])
@@ -228,15 +242,7 @@ def main() -> None:
     parser.add_argument(
         "--robot", type=Path, help="a robot block (mazegen fit's) whose controller settings to drive"
     )
-    parser.add_argument(
-        "--robot-radius", type=float, default=0.3,
-        help="the arena's robot radius the worlds are imported for (MazeGen's path and fields), metres "
-        "(default BARN's C-space radius 0.3)",
-    )  # fmt: skip
-    parser.add_argument(
-        "--disc", action="store_true",
-        help="collide the disc of the robot radius, not the Jackal's 0.508 x 0.430 m body",
-    )  # fmt: skip
+    add_body_arguments(parser, 0.3)
     args = parser.parse_args()
     with tempfile.TemporaryDirectory(prefix="mazegen-barn-") as folder:
         worlds = load_worlds(args.keep or Path(folder), args.robot_radius)

@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 from mazegen.runtime.compiling import inner_kernel
-from mazegen.runtime.simulation._collide import NO_HIT, segment_distance2, wall_entry
+from mazegen.runtime.simulation._collide import NO_HIT, segment_distance2, slab, wall_entry
 
 
 @njit(cache=True, inline="always")
@@ -39,21 +39,6 @@ def _corner(hl, hw, k):  # pragma: no cover - compiled
 def _placed(x, y, c, s, fx, fy):  # pragma: no cover - compiled
     """The point ``(fx, fy)`` of the box's frame placed at ``(x, y)`` heading ``(c, s)``."""
     return x + fx * c - fy * s, y + fx * s + fy * c
-
-
-@njit(cache=True, inline="always")
-def _narrow(lo, hi, move, part_lo, part_hi, enter, leave):  # pragma: no cover - compiled
-    """Narrow ``[enter, leave]`` to the ``t`` at which ``[lo, hi] + t · move`` overlaps ``[part_lo,
-    part_hi]`` (touching included)."""
-    if move == 0.0:
-        if lo > part_hi or hi < part_lo:
-            return 1.0, 0.0  # empty
-        return enter, leave
-    a = (part_lo - hi) / move
-    b = (part_hi - lo) / move
-    if a > b:
-        a, b = b, a
-    return max(enter, a), min(leave, b)
 
 
 @njit(cache=True, inline="always")
@@ -83,7 +68,9 @@ def _part_entry(x, y, c, s, hl, hw, dx, dy, vertices, n, enter, leave):  # pragm
             half = hl * abs(c * ax + s * ay) + hw * abs(c * ay - s * ax)
             lo, hi = centre - half, centre + half
         part_lo, part_hi = _part_span(vertices, n, ax, ay)
-        enter, leave = _narrow(lo, hi, dx * ax + dy * ay, part_lo, part_hi, enter, leave)
+        # [lo, hi] slid by t · (d · axis) overlaps the part's projection (touching included) where
+        # t · (d · axis) lies within [part_lo - hi, part_hi - lo].
+        enter, leave = slab(0.0, dx * ax + dy * ay, part_lo - hi, part_hi - lo, enter, leave)
         if enter > leave:
             return NO_HIT
     return enter

@@ -28,7 +28,7 @@ NO_HIT = np.inf
 
 
 @njit(cache=True, inline="always")
-def _slab(q0, qd, lo, hi, enter, leave):  # pragma: no cover - compiled
+def slab(q0, qd, lo, hi, enter, leave):  # pragma: no cover - compiled
     """Narrow ``[enter, leave]`` to the ``t`` where ``lo ≤ q0 + t·qd ≤ hi``."""
     if qd == 0.0:
         if q0 < lo or q0 > hi:
@@ -73,8 +73,8 @@ def _edge_slab_entry(px, py, dx, dy, ax, ay, bx, by, r):  # pragma: no cover - c
     uy = ey / length
     fx = px - ax
     fy = py - ay
-    enter, leave = _slab(ux * fx + uy * fy, ux * dx + uy * dy, 0.0, length, 0.0, 1.0)
-    enter, leave = _slab(ux * fy - uy * fx, ux * dy - uy * dx, -r, r, enter, leave)
+    enter, leave = slab(ux * fx + uy * fy, ux * dx + uy * dy, 0.0, length, 0.0, 1.0)
+    enter, leave = slab(ux * fy - uy * fx, ux * dy - uy * dx, -r, r, enter, leave)
     return enter if enter <= leave else NO_HIT
 
 
