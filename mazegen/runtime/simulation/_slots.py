@@ -30,7 +30,7 @@ from mazegen.runtime.simulation._levels import INERT_BOX, LevelRows
 from mazegen.runtime.simulation._loop import command, controller_slots
 from mazegen.runtime.simulation._movebase import MEMORY
 from mazegen.runtime.simulation._policy import look
-from mazegen.runtime.simulation._state import ACTIVE, THETA, Robots, V, W, X, Y
+from mazegen.runtime.simulation._state import ACTIVE, THETA, Robots, V, W, X, Y, boxes_of
 from mazegen.runtime.simulation._step import advance, begin
 from mazegen.runtime.threads import in_blocks, thread_count, threads
 
@@ -120,7 +120,7 @@ class Slots:
         _load_slots(
             slots, rows, self._given[1], self._ours, self._world, self.robots.arrays, self.to_go, self.reward,
             self.angles, self.capacity, self.ranges, self.to_goal, self.waypoint, self.to_waypoint,
-            _boxes(levels.limits),
+            boxes_of(levels.limits),
         )  # fmt: skip
 
     def step(self, actions: np.ndarray, weights: np.ndarray) -> np.ndarray:
@@ -134,7 +134,7 @@ class Slots:
                 self.robots.arrays, self.levels.path, self.levels.path_count, self.levels.scale, self.to_go,
                 np.ascontiguousarray(weights, np.float64), self.angles, self.levels.reach, self.capacity,
                 self.reward, self.ranges, self.to_goal, self.waypoint, self.to_waypoint,
-                _boxes(self.levels.limits), per_thread=2,
+                boxes_of(self.levels.limits), per_thread=2,
             )  # fmt: skip
         return self.reward
 
@@ -181,11 +181,6 @@ class Slots:
         vertices = levels.parts.reshape(n * p, *levels.parts.shape[2:])
         self._world = (first, vertices, levels.count.reshape(-1), levels.box.reshape(n * p, 4), levels.size)
         self._ours = tuple(levels.arrays.values())
-
-
-def _boxes(limits: np.ndarray) -> np.ndarray | None:
-    """``limits`` when any of their robots is a box, else None (as :attr:`._state.Setup.boxes`)."""
-    return limits if limits[:, LIMITS.index("length")].any() else None
 
 
 def _shapes(levels: LevelRows) -> tuple[int, int, int]:

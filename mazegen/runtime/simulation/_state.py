@@ -48,6 +48,12 @@ def robot_limits(robot: Robot, arena: Arena) -> np.ndarray:
     return np.array([values[name] for name in LIMITS], np.float64)
 
 
+def boxes_of(limits: np.ndarray) -> np.ndarray | None:
+    """``limits`` when any of their robots collides as a box (its ``footprint``), else None: what the
+    step kernels take as ``boxes``, compiling the box's branches only for a drive that has one."""
+    return limits if limits[:, LIMITS.index("length")].any() else None
+
+
 @dataclass(frozen=True)
 class Setup:
     """What the episodes of one drive read, a row or value per driven floor (floors of different
@@ -68,9 +74,8 @@ class Setup:
 
     @property
     def boxes(self) -> np.ndarray | None:
-        """The limits when any robot collides as a box (its ``footprint``), else None: the step kernel
-        compiles its box's branches only for a drive that has one."""
-        return self.limits if self.limits[:, LIMITS.index("length")].any() else None
+        """:func:`boxes_of` the robots' limits."""
+        return boxes_of(self.limits)
 
     @property
     def episode(self) -> tuple:
