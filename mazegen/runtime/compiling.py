@@ -20,6 +20,17 @@ inner_kernel = njit(cache=True, no_cpython_wrapper=True)  # type: ignore[call-ov
 """The decorator of a kernel that only other kernels call: compiled without the wrapper that lets
 Python call it, which a first run would spend seconds on (docs/architecture.md, Compiling)."""
 
+leaf_kernel = njit(cache=True, no_cpython_wrapper=True, _nrt=False)  # type: ignore[call-overload]
+"""An inner kernel that allocates no array and returns none, compiled without numba's reference
+counting (``_nrt=False``; numba refuses to compile an allocation in it). Otherwise every array a kernel
+is given is counted up and down, atomically, at every call: half of a ``movebase`` drive's time, when
+its rollouts' kernels were counted. Never return an array (a view of an argument, say) from one: its
+caller would count it down once too often. numba compiles what such a kernel calls without reference
+counting too, unless the callee says otherwise, so it calls only its like (a test checks)."""
+
+wrapped_leaf_kernel = njit(cache=True, _nrt=False)  # type: ignore[call-overload]
+"""A :data:`leaf_kernel` that Python calls too (tests, mostly)."""
+
 RUN_SECONDS = 40
 """Seconds a first run waits for its kernels, at most, on a quiet 2-core machine (``benchmarks/startup.py``
 measured 18–22 s for ``mazegen run``, which compiles on both cores, 34–36 s for a run of the Python API,

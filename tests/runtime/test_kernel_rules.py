@@ -1,6 +1,7 @@
-"""The rules that keep a first run's compiling short (docs/architecture.md, Compiling), checked on the
-sources: no parallel kernels, no literal constants given to kernels that are not inlined, and a
-Python wrapper for exactly the kernels Python calls."""
+"""The rules that keep a first run's compiling short and the kernels fast (docs/architecture.md,
+Compiling), checked on the sources: no parallel kernels, no literal constants given to kernels that are
+not inlined, a Python wrapper for exactly the kernels Python calls, and kernels compiled without
+reference counting calling only their like."""
 
 from __future__ import annotations
 
@@ -11,6 +12,8 @@ from pathlib import Path
 from tests.conftest import ROOT
 
 RUNTIME = ROOT / "mazegen" / "runtime"
+UNWRAPPED = ("inner_kernel", "leaf_kernel")
+"""The decorators of kernels without a Python wrapper (mazegen/runtime/compiling.py)."""
 
 
 def _kernels() -> list[tuple[Path, ast.FunctionDef, str]]:
@@ -22,7 +25,7 @@ def _kernels() -> list[tuple[Path, ast.FunctionDef, str]]:
                 decorators = [
                     ast.unparse(d)
                     for d in node.decorator_list
-                    if "njit" in ast.unparse(d) or ast.unparse(d) == "inner_kernel"
+                    if "njit" in ast.unparse(d) or ast.unparse(d) in (*UNWRAPPED, "wrapped_leaf_kernel")
                 ]
                 if decorators:
                     found.append((path, node, decorators[0]))
@@ -31,6 +34,18 @@ def _kernels() -> list[tuple[Path, ast.FunctionDef, str]]:
 
 def _inlined(decorator: str) -> bool:
     return "inline" in decorator
+
+
+def _uncounted(decorator: str) -> bool:
+    return decorator in ("leaf_kernel", "wrapped_leaf_kernel")
+
+
+def _callees(node: ast.FunctionDef) -> set[str]:
+    return {
+        call.func.attr if isinstance(call.func, ast.Attribute) else getattr(call.func, "id", "")
+        for call in ast.walk(node)
+        if isinstance(call, ast.Call)
+    }
 
 
 def test_no_kernel_is_parallel():
@@ -75,6 +90,31 @@ def test_kernels_have_a_python_wrapper_exactly_when_python_calls_them():
     wrong = [
         f"{path.name}:{node.lineno} {node.name}"
         for path, node, decorator in kernels
-        if not _inlined(decorator) and (decorator == "inner_kernel") == (outside.get(node.name, 0) > 0)
+        if not _inlined(decorator) and (decorator in UNWRAPPED) == (outside.get(node.name, 0) > 0)
     ]
     assert wrong == []
+
+
+def test_kernels_without_reference_counting_call_only_their_like():
+    """numba compiles a kernel a kernel without reference counting calls without it too, unless the
+    callee says otherwise: a kernel that allocates would then fail to compile, and one that both kinds
+    call would compile as whichever called it first. So they call only kernels that say so, directly
+    or through inlined ones."""
+    kernels = {node.name: (path, node, decorator) for path, node, decorator in _kernels()}
+    offending = []
+    for path, node, decorator in kernels.values():
+        if not _uncounted(decorator):
+            continue
+        seen, todo = set(), list(_callees(node))
+        while todo:
+            name = todo.pop()
+            if name in seen or name not in kernels or name == node.name:
+                continue
+            seen.add(name)
+            callee = kernels[name][2]
+            if _inlined(callee):
+                todo.extend(_callees(kernels[name][1]))
+            elif not _uncounted(callee):
+                offending.append(f"{path.name}:{node.lineno} {node.name} calls {name}")
+    assert offending == []
+    assert sum(_uncounted(decorator) for _, _, decorator in kernels.values()) > 20  # (the rule applies)

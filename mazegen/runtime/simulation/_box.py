@@ -25,7 +25,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.simulation._collide import NO_HIT, segment_distance2, slab, wall_entry
 
 
@@ -51,7 +51,7 @@ def _part_span(vertices, n, ax, ay):  # pragma: no cover - compiled
     return lo, hi
 
 
-@inner_kernel
+@leaf_kernel
 def _part_entry(x, y, c, s, hl, hw, dx, dy, vertices, n, enter, leave):  # pragma: no cover - compiled
     """First ``t`` in ``[enter, leave]`` at which the box moved by ``t · (dx, dy)`` touches the convex
     part, else ``NO_HIT``."""
@@ -107,7 +107,7 @@ def _arc_crosses(cx, cy, radius, start, turn, ax, ay, bx, by):  # pragma: no cov
     return False
 
 
-@inner_kernel
+@leaf_kernel
 def _corners_cross(x, y, theta, turn, hl, hw, ax, ay, bx, by):  # pragma: no cover - compiled
     """Whether a corner of the box turning on the spot crosses the segment ``ab``."""
     radius = math.hypot(hl, hw)
@@ -118,7 +118,7 @@ def _corners_cross(x, y, theta, turn, hl, hw, ax, ay, bx, by):  # pragma: no cov
     return False
 
 
-@inner_kernel
+@leaf_kernel
 def _vertex_crosses(x, y, theta, turn, hl, hw, vx, vy):  # pragma: no cover - compiled
     """Whether the point ``(vx, vy)`` crosses an edge of the box turning on the spot: seen from the
     box, the point turns by ``-turn`` about its centre."""
@@ -134,7 +134,7 @@ def _vertex_crosses(x, y, theta, turn, hl, hw, vx, vy):  # pragma: no cover - co
     return False
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def turn_touches(x, y, theta, turn, hl, hw, floor, world):  # pragma: no cover - compiled
     """Whether the box at ``(x, y)`` heading ``theta`` touches a part or wall of driven floor
     ``floor`` while it turns on the spot by ``turn`` (clear where it starts)."""
@@ -164,7 +164,7 @@ def turn_touches(x, y, theta, turn, hl, hw, floor, world):  # pragma: no cover -
     return False
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def box_sweep(x, y, theta, dx, dy, turn, hl, hw, floor, world):  # pragma: no cover - compiled
     """First fraction ``t`` of the move ``(dx, dy)`` from ``(x, y)`` at which the box heading
     ``theta`` touches a part or wall of driven floor ``floor``; 1 when it touches only as it then
@@ -186,7 +186,7 @@ def box_sweep(x, y, theta, dx, dy, turn, hl, hw, floor, world):  # pragma: no co
     return 1.0 if turn_touches(x + dx, y + dy, theta, turn, hl, hw, floor, world) else NO_HIT
 
 
-@inner_kernel
+@leaf_kernel
 def _part_distance(x, y, c, s, hl, hw, vertices, n):  # pragma: no cover - compiled
     """Distance from the box to the convex part (0 where they overlap or touch)."""
     if _part_entry(x, y, c, s, hl, hw, 0.0, 0.0, vertices, n, 0.0, 0.0) == 0.0:
@@ -205,7 +205,7 @@ def _part_distance(x, y, c, s, hl, hw, vertices, n):  # pragma: no cover - compi
     return math.sqrt(best)
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def box_distance(x, y, theta, hl, hw, floor, world, cutoff):  # pragma: no cover - compiled
     """Distance from the box at ``(x, y)`` heading ``theta`` to the nearest part or wall of driven
     floor ``floor`` (0 touching or overlapping), or ``cutoff`` when that is nearer."""

@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 
 NO_HIT = np.inf
 """What :func:`sweep` returns when the segment touches nothing."""
@@ -88,7 +88,7 @@ def _edge(vertices, n, k, px, py):  # pragma: no cover - compiled
     return ax, ay, bx, by, (bx - ax) * (py - ay) - (by - ay) * (px - ax) >= 0.0
 
 
-@inner_kernel
+@leaf_kernel
 def part_entry(px, py, dx, dy, vertices, n, r):  # pragma: no cover - compiled
     """First ``t`` in ``[0, 1]`` where ``p + t·d`` is within ``r`` of the convex part (``n``
     counter-clockwise ``vertices``), else ``NO_HIT``."""
@@ -130,7 +130,7 @@ def segment_distance2(px, py, ax, ay, bx, by):  # pragma: no cover - compiled
     return gx * gx + gy * gy
 
 
-@inner_kernel
+@leaf_kernel
 def part_distance(px, py, vertices, n):  # pragma: no cover - compiled
     """Distance from point ``p`` to the convex part (0 inside)."""
     best = np.inf
@@ -142,7 +142,7 @@ def part_distance(px, py, vertices, n):  # pragma: no cover - compiled
     return 0.0 if inside else math.sqrt(best)
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def distance(px, py, floor, world, cutoff):  # pragma: no cover - compiled
     """Distance from point ``p`` to the nearest part or wall of driven floor ``floor``, or
     ``cutoff`` when that is nearer (parts beyond it are culled by their boxes)."""
@@ -156,7 +156,7 @@ def distance(px, py, floor, world, cutoff):  # pragma: no cover - compiled
     return best
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def sweep(x0, y0, x1, y1, r, floor, world):  # pragma: no cover - compiled
     """First fraction ``t`` of the segment ``(x0, y0) → (x1, y1)`` at which a disc of radius ``r``
     centred on it touches a part or wall of driven floor ``floor``; ``NO_HIT`` if it never does."""

@@ -20,6 +20,8 @@ import math
 
 from numba import njit
 
+from mazegen.runtime.compiling import wrapped_leaf_kernel
+
 # Positions in the limits array and in each controller's parameters: literals, which numba compiles
 # in as constants (a kernel's cache is keyed on the runtime's sources alone), in the order of
 # mazegen/controllers.py's LIMITS and rows; tests/runtime/simulation/test_registry.py checks them.
@@ -37,7 +39,7 @@ def wrap(angle):  # pragma: no cover - compiled
     return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def straight_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
 ):  # pragma: no cover
@@ -92,7 +94,7 @@ def carrot(path, x, y, reach):  # pragma: no cover - compiled
     return path[n - 1, 0], path[n - 1, 1]
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def purepursuit_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
 ):  # pragma: no cover

@@ -31,7 +31,7 @@ from numba import njit
 
 from mazegen.controllers import BUNDLED
 from mazegen.errors import MazeError
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import inner_kernel, leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.geometry import cspace, grid_args, grid_of
 from mazegen.runtime.navigation import kernel_args
 from mazegen.runtime.simulation._fields import clearance, file_entry, raster_scratch, take_lowest
@@ -136,7 +136,7 @@ def cell_cost(d, inscribed, inflation, decay):  # pragma: no cover - compiled
     return float(math.floor((INSCRIBED - 1.0) * math.exp(-(d - inscribed) / decay)))
 
 
-@inner_kernel
+@leaf_kernel
 def navfn_cost(d, costs):  # pragma: no cover - compiled
     """navfn's cost of crossing a cell ``d`` from the nearest obstacle: ``inf`` for a wall."""
     cost = cell_cost(d, costs[0], costs[1], costs[2])
@@ -218,7 +218,7 @@ def goal_distance(clear, costs, goal_row, goal_col, out, queue):  # pragma: no c
             tail += 1
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def descend(potential, clear, costs, row, col, within, plan):  # pragma: no cover - compiled
     """navfn's plan from cell ``(row, col)``: each step to the neighbour that keeps the cheapest way to
     the goal (the robot's own cell free, as navfn clears it). The plan's cells within ``within``

@@ -34,7 +34,7 @@ import math
 
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.simulation._controllers import (
     ACCEL,
     MAX_SPEED,
@@ -53,7 +53,7 @@ LETHAL = 252.0
 """costmap_2d's cost just outside the inscribed radius, where the inflation decay starts."""
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def dwa_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
 ):  # pragma: no cover
@@ -232,7 +232,7 @@ def _nav_at(nav, frame, x, y):  # pragma: no cover - compiled
     return float(nav[r, c])
 
 
-@inner_kernel
+@leaf_kernel
 def _near_segments(path, x, y, reach):  # pragma: no cover - compiled
     """``(first, last)``: the span of path segments that may hold the nearest path point of any
     point within ``reach`` of ``(x, y)`` (those within the nearest segment's distance + 2 reach)."""

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import wrapped_leaf_kernel
 from mazegen.runtime.geometry import cspace, grid_args, grid_of, is_set, raster_arrays
 from mazegen.runtime.navigation import kernel_args
 from mazegen.runtime.simulation._world import stacked
@@ -126,7 +127,7 @@ def field_scratch(rows, cols):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def clearance(occupied, cell, extent, out, scratch):  # pragma: no cover - compiled
     """``out[r, c]``: distance from cell ``(r, c)``'s centre to the nearest occupied cell's centre
     or to the arena's edge, whichever is nearer (arena units)."""
@@ -186,7 +187,7 @@ def _lower_envelope(f, n, hull, bounds, out):  # pragma: no cover - compiled
         out[p] = d * d + f[hull[k]]
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def navigation(free, cell, points, ends, out, scratch):  # pragma: no cover - compiled
     """``out[r, c]``: distance to the goal from cell ``(r, c)``'s centre through free cells,
     8-connected, ``inf`` where the goal cannot be reached.

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from mazegen.controllers import BUNDLED
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel
 from mazegen.runtime.simulation._controllers import purepursuit_command, straight_command
 from mazegen.runtime.simulation._dwa import dwa_command
 from mazegen.runtime.simulation._lidar import scan
@@ -93,7 +93,7 @@ def command(
         out[1] = 0.0
 
 
-@inner_kernel
+@leaf_kernel
 def _record(trajectory, m, step, state):  # pragma: no cover - compiled
     if trajectory.shape[0]:
         for k in range(3):

@@ -44,10 +44,10 @@ from mazegen.runtime.simulation._costmap import descend
 from mazegen.runtime.simulation._rollout import (
     CUT,
     GOAL_DISTANCE,
+    OUTLINES,
     bound,
     cell_of,
     frame_of,
-    new_outline,
     plan_term,
     pose_cost,
     score,
@@ -62,8 +62,10 @@ HEADING_LOOKAHEAD, OSCILLATION_RESET, ESCAPE_VEL, ESCAPE_RESET_DIST, ESCAPE_RESE
 ROTATING_LEFT, ROTATING_RIGHT, STUCK_LEFT, STUCK_RIGHT, PREV_X, PREV_Y = range(6)
 ESCAPING, ESCAPE_X, ESCAPE_Y, ESCAPE_THETA = range(6, 10)
 """TrajectoryPlanner's state, carried from step to step (all 0 when an episode begins)."""
-MEMORY = 10
+STATE = 10
 """Its length."""
+MEMORY = STATE + 5 * OUTLINES
+"""A robot's memory: its state, then the outlines it has traced on its floor (:func:`pose_cost`'s)."""
 POTENTIAL = 0
 """navfn's potential's layer of ``nav``."""
 PLAN_CELLS = 1024
@@ -77,6 +79,7 @@ def movebase_command(
     """The velocity move_base would command, written to ``out`` (``(0, 0)``: stand)."""
     x, y, theta, v = pose[0], pose[1], pose[2], pose[3]
     out[0], out[1] = 0.0, 0.0
+    outlines = memory[STATE:].reshape((OUTLINES, 5))
     frame = frame_of(params, grid)
     rr, rc = cell_of(frame, clear, x, y)
     if rr < 0:
@@ -88,12 +91,12 @@ def movebase_command(
     n_plan = descend(nav[POTENTIAL], clear, (frame[3], frame[4], frame[5]), rr, rc, within, plan)
     if n_plan < 0:
         return  # no plan: move_base has nothing to follow
-    here = pose_cost(frame, clear, nav, x, y, math.cos(theta), math.sin(theta), new_outline())
+    here = pose_cost(frame, clear, nav, x, y, math.cos(theta), math.sin(theta), outlines)
     best, best_v, best_w = math.inf, 0.0, 0.0
     escaping = memory[ESCAPING] > 0.0
     if here >= 0.0:
         best, best_v, best_w = _choose(
-            params, limits, pose, goal, frame, nav, clear, plan, n_plan, here, escaping, memory
+            params, limits, pose, goal, frame, nav, clear, plan, n_plan, here, escaping, memory, outlines
         )
     if best < math.inf:
         if not best_v > 0.0:
@@ -101,7 +104,7 @@ def movebase_command(
         _lift_guard(memory, x, y, params[OSCILLATION_RESET])
     else:  # back up
         poses, _ = trajectory(params, limits, pose, params[ESCAPE_VEL], 0.0)
-        backup = score(params, frame, nav, clear, plan, n_plan, poses, -1.0, math.inf)
+        backup = score(params, frame, nav, clear, plan, n_plan, poses, -1.0, math.inf, outlines)
         _lift_guard(memory, x, y, params[OSCILLATION_RESET])
         if not escaping and backup > CUT:
             memory[ESCAPING], memory[ESCAPE_X], memory[ESCAPE_Y], memory[ESCAPE_THETA] = 1.0, x, y, theta
@@ -118,7 +121,7 @@ def movebase_command(
 
 @inner_kernel
 def _choose(
-    params, limits, pose, goal, frame, nav, clear, plan, n_plan, here, escaping, memory
+    params, limits, pose, goal, frame, nav, clear, plan, n_plan, here, escaping, memory, outlines
 ):  # pragma: no cover - compiled
     """``(cost, v, w)`` of the chosen valid rollout, cost ``inf`` when none is valid."""
     x, y, v, w = pose[0], pose[1], pose[3], pose[4]
@@ -147,7 +150,7 @@ def _choose(
             vs, ws = _forward_sample(k, nw, v_lo, dv, w_lo, dw)
             poses, _ = trajectory(params, limits, pose, vs, ws)
             limit = np.nextafter(best, math.inf) if k < best_k else best  # (an earlier sample wins a tie)
-            cost = score(params, frame, nav, clear, plan, n_plan, poses, here, limit)
+            cost = score(params, frame, nav, clear, plan, n_plan, poses, here, limit, outlines)
             if cost >= 0.0:
                 best, best_k, best_v, best_w = cost, k, vs, ws
     # Turns on the spot, in order: one that costs no more and faces nearer the goal takes over.
@@ -162,9 +165,8 @@ def _choose(
                 poses, heading = trajectory(params, limits, pose, 0.0, turn)
                 ahead = _facing(params, frame, nav, clear, poses[-1, 0], poses[-1, 1], heading)
                 if ahead < facing:  # (one facing no nearer than a turn taken before cannot take over)
-                    cost = score(
-                        params, frame, nav, clear, plan, n_plan, poses, here, np.nextafter(best, math.inf)
-                    )
+                    limit = np.nextafter(best, math.inf)
+                    cost = score(params, frame, nav, clear, plan, n_plan, poses, here, limit, outlines)
                     if cost >= 0.0:
                         best, best_v, best_w, facing = cost, 0.0, turn, ahead
         ws += dw

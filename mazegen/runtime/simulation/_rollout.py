@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.simulation._controllers import ACCEL, TURN_ACCEL
 from mazegen.runtime.simulation._costmap import INSCRIBED, cell_cost
 
@@ -69,7 +69,7 @@ def cell_of(frame, clear, x, y):  # pragma: no cover - compiled
     return r, c
 
 
-@inner_kernel
+@leaf_kernel
 def plan_distance(plan, n_plan, row, col):  # pragma: no cover - compiled
     """Manhattan distance in cells from ``(row, col)`` to the nearest of the plan's kept cells."""
     best = 1 << 62
@@ -93,7 +93,7 @@ def _steps(params, vs, ws):  # pragma: no cover - compiled
     return n, horizon / n
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def bound(params, limits, frame, nav, clear, pose, vs, ws, here):  # pragma: no cover - compiled
     """``(lower bound, row, col)``: a lower bound of the cost of the rollout of ``(vs, ws)`` but for its
     plan distance (``inf`` when it cannot be valid), and the cell of its end (row -1 when rounding
@@ -162,8 +162,10 @@ def trajectory(params, limits, pose, vs, ws):  # pragma: no cover - compiled
     return poses, theta
 
 
-@njit(cache=True)
-def score(params, frame, nav, clear, plan, n_plan, poses, here, limit):  # pragma: no cover - compiled
+@wrapped_leaf_kernel
+def score(
+    params, frame, nav, clear, plan, n_plan, poses, here, limit, outlines
+):  # pragma: no cover - compiled
     """The cost of the rollout through ``poses`` (:func:`trajectory`'s) when it is valid and costs less
     than ``limit`` (``nextafter(best, inf)`` lets a cost tie the best), else :data:`OFF`, :data:`CUT` or
     :data:`OVER`.
@@ -194,10 +196,9 @@ def score(params, frame, nav, clear, plan, n_plan, poses, here, limit):  # pragm
             occupancy = max(occupancy, least_occupancy(frame, clear[r, c]))
         if distances + weight * occupancy >= limit:
             return OVER
-    outline = new_outline()
     for j in range(1 if here >= 0.0 else 0, n + len(PROBES) if here >= 0.0 else n):
         k = j if here < 0.0 else _probe_then_all(j, n)
-        cost = pose_cost(frame, clear, nav, poses[k, 0], poses[k, 1], poses[k, 2], poses[k, 3], outline)
+        cost = pose_cost(frame, clear, nav, poses[k, 0], poses[k, 1], poses[k, 2], poses[k, 3], outlines)
         if cost < 0.0:
             return cost
         occupancy = max(occupancy, cost)
@@ -231,12 +232,12 @@ def least_occupancy(frame, d):  # pragma: no cover - compiled
     return max(cell_cost(d, inscribed, inflation, decay), cell_cost(outline, inscribed, inflation, decay))
 
 
-@njit(cache=True)
-def pose_cost(frame, clear, nav, x, y, cos_t, sin_t, outline):  # pragma: no cover - compiled
+@wrapped_leaf_kernel
+def pose_cost(frame, clear, nav, x, y, cos_t, sin_t, outlines):  # pragma: no cover - compiled
     """The occupancy of the pose: the costliest cell of its footprint's outline and its centre; or
     :data:`OFF` (off the map, or the outline on an obstacle cell) or :data:`CUT` (its cell cut off).
-    ``outline`` remembers the last outline's corner cells and cost (:func:`new_outline`): an outline
-    between the same four cells costs the same."""
+    ``outlines`` (:data:`OUTLINES` rows, zeroed for a new floor) remembers outlines traced before by
+    their corner cells: an outline between the same four cells costs the same."""
     r, c = cell_of(frame, clear, x, y)
     if r < 0:
         return OFF
@@ -244,54 +245,59 @@ def pose_cost(frame, clear, nav, x, y, cos_t, sin_t, outline):  # pragma: no cov
     half_length, half_width = frame[6], frame[7]
     # Nearer than this to an obstacle cell, an outline cell may cost something.
     if clear[r, c] <= math.hypot(half_length, half_width) + frame[4] + math.sqrt(2.0) * frame[2]:
-        # Corners in footprint order (rear right, rear left, front left, front right).
-        same = outline[8] >= 0.0 or outline[8] == OFF
-        for k in range(4):
-            fx = -half_length if k <= 1 else half_length
-            fy = -half_width if k == 0 or k == 3 else half_width
-            kr, kc = corner_cell(frame, clear, x, y, cos_t, sin_t, fx, fy)
-            if kr < 0:
-                return OFF
-            same = same and outline[2 * k] == kr and outline[2 * k + 1] == kc
-            outline[2 * k], outline[2 * k + 1] = kr, kc
-        if not same:
-            outline[8] = 0.0
-            for k in range(4):
-                q = (k + 1) % 4
-                r0, c0, r1, c1 = (
-                    int(outline[2 * k]),
-                    int(outline[2 * k + 1]),
-                    int(outline[2 * q]),
-                    int(outline[2 * q + 1]),
-                )
-                line = line_cost(nav[COST], r0, c0, r1, c1)
-                if line < 0.0:
-                    outline[8] = OFF
-                    break
-                outline[8] = max(outline[8], line)
-        if outline[8] < 0.0:
+        # Corners in footprint order (rear right, rear left, front left, front right), as cell numbers.
+        k0 = corner_number(frame, clear, x, y, cos_t, sin_t, -half_length, -half_width)
+        k1 = corner_number(frame, clear, x, y, cos_t, sin_t, -half_length, half_width)
+        k2 = corner_number(frame, clear, x, y, cos_t, sin_t, half_length, half_width)
+        k3 = corner_number(frame, clear, x, y, cos_t, sin_t, half_length, -half_width)
+        if k0 < 0 or k1 < 0 or k2 < 0 or k3 < 0:
             return OFF
-        worst = max(worst, outline[8])
+        mixed = ((k0 * 1000003 + k1) * 1000003 + k2) * 1000003 + k3
+        row = (mixed ^ (mixed >> 29)) & (outlines.shape[0] - 1)
+        if not (
+            outlines[row, 0] == k0 + 1
+            and outlines[row, 1] == k1
+            and outlines[row, 2] == k2
+            and outlines[row, 3] == k3
+        ):
+            cost = _outline_cost(nav[COST], clear.shape[1], k0, k1, k2, k3)
+            outlines[row, 0], outlines[row, 1], outlines[row, 2], outlines[row, 3] = k0 + 1, k1, k2, k3
+            outlines[row, 4] = cost
+        if outlines[row, 4] < 0.0:
+            return OFF
+        worst = max(worst, outlines[row, 4])
     if nav[GOAL_DISTANCE, r, c] == math.inf:
         return CUT
     return worst
 
 
-@njit(cache=True, inline="always")
-def new_outline():  # pragma: no cover - compiled
-    """:func:`pose_cost`'s memory of the last outline: none yet."""
-    outline = np.full(9, -1.0)
-    outline[8] = -9.0
-    return outline
+OUTLINES = 1024
+"""Outlines :func:`pose_cost` remembers (a power of two): a robot's rollouts from one step to the next
+trace many of the same."""
 
 
 @njit(cache=True, inline="always")
-def corner_cell(frame, clear, x, y, cos_t, sin_t, fx, fy):  # pragma: no cover - compiled
-    """The cell of the footprint point ``(fx, fy)`` (robot frame) of the pose."""
-    return cell_of(frame, clear, x + fx * cos_t - fy * sin_t, y + fx * sin_t + fy * cos_t)
+def _outline_cost(cost, cols, k0, k1, k2, k3):  # pragma: no cover - compiled
+    """The costliest cell of the outline through the cells numbered ``k0 .. k3`` (``row · cols + col``);
+    :data:`OFF` on an obstacle cell."""
+    worst = 0.0
+    for a, b in ((k0, k1), (k1, k2), (k2, k3), (k3, k0)):
+        line = line_cost(cost, a // cols, a % cols, b // cols, b % cols)
+        if line < 0.0:
+            return OFF
+        worst = max(worst, line)
+    return worst
 
 
-@inner_kernel
+@njit(cache=True, inline="always")
+def corner_number(frame, clear, x, y, cos_t, sin_t, fx, fy):  # pragma: no cover - compiled
+    """The cell number (``row · cols + col``) of the footprint point ``(fx, fy)`` (robot frame) of the
+    pose; -1 off the map."""
+    r, c = cell_of(frame, clear, x + fx * cos_t - fy * sin_t, y + fx * sin_t + fy * cos_t)
+    return r * clear.shape[1] + c if r >= 0 else -1
+
+
+@leaf_kernel
 def line_cost(cost, r0, c0, r1, c1):  # pragma: no cover - compiled
     """The costliest cell of the Bresenham line from ``(r0, c0)`` to ``(r1, c1)``; -1 on an obstacle cell."""
     dc, dr = abs(c1 - c0), abs(r1 - r0)

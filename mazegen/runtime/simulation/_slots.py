@@ -24,7 +24,7 @@ from numba import njit
 
 from mazegen.controllers import BUNDLED, LIDAR, LIMITS
 from mazegen.errors import MazeError
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel
 from mazegen.runtime.simulation._episodes import ARRIVED, TIMEOUT
 from mazegen.runtime.simulation._levels import INERT_BOX, LevelRows
 from mazegen.runtime.simulation._loop import command, controller_slots
@@ -237,7 +237,7 @@ def _load_slots(
             path_waypoint(state[m], path[m], path_count[m], goal[m], waypoint / scale[m], to_waypoint[m])
 
 
-@inner_kernel
+@leaf_kernel
 def _copy_row(source, k, target, m):  # pragma: no cover - compiled
     for c in range(target.shape[1]):
         target[m, c] = source[k, c]
@@ -288,7 +288,7 @@ def _commands(
         out[m, 0], out[m, 1] = command_out[0], command_out[1]
 
 
-@inner_kernel
+@leaf_kernel
 def path_waypoint(pose, path, count, goal, ahead, out):  # pragma: no cover - compiled
     """The point of the path (``count`` corners, start to goal) ``ahead`` beyond its point nearest the
     robot at ``pose`` (the goal where the path ends sooner, or without a path), written to ``out`` in
@@ -326,7 +326,7 @@ def path_waypoint(pose, path, count, goal, ahead, out):  # pragma: no cover - co
     out[2] = math.sin(bearing)
 
 
-@inner_kernel
+@leaf_kernel
 def path_to_go(x, y, path, count, goal):  # pragma: no cover - compiled
     """The length of the shortest way from ``(x, y)`` to the goal that goes straight to a point of the
     path (``count`` corners, start to goal) and follows it from there; straight to ``goal`` without

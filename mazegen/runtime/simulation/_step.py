@@ -38,6 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import wrapped_leaf_kernel
 from mazegen.runtime.simulation._box import box_distance, box_sweep, turn_touches
 from mazegen.runtime.simulation._collide import NO_HIT, disc_entry, distance, sweep
 from mazegen.runtime.simulation._controllers import (
@@ -137,7 +138,7 @@ def _window(command, current, change, low, high):  # pragma: no cover - compiled
     return min(max(min(max(command, current - change), current + change), low), high)
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def advance(m, command_v, command_w, world, episode, robots, boxes):  # pragma: no cover - compiled
     """Step robot ``m`` by the command ``(command_v, command_w)``; see the module's docstring.
 

@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel
 from mazegen.runtime.simulation._controllers import MAX_SPEED, MAX_TURN, RADIUS, wrap
 
 # Parameters, in the order of vfh's row in mazegen/controllers.py; tests/runtime/simulation/test_registry.py
@@ -79,7 +79,7 @@ def _free(density, seen, s, threshold):  # pragma: no cover - compiled
     return seen[s] and density[s] <= threshold
 
 
-@inner_kernel
+@leaf_kernel
 def _opening(density, seen, threshold, width, wide, bearing):  # pragma: no cover - compiled
     """The candidate direction (robot frame) nearest ``bearing`` over every opening; ``inf`` if none."""
     n = density.shape[0]

@@ -20,7 +20,7 @@ from mazegen.runtime.simulation._choice import bundled_params
 from mazegen.runtime.simulation._costmap import costmap_fields, descend
 from mazegen.runtime.simulation._movebase import MEMORY, movebase_command
 from mazegen.runtime.simulation._paths import floor_paths
-from mazegen.runtime.simulation._rollout import CUT, OFF, frame_of, score, trajectory
+from mazegen.runtime.simulation._rollout import CUT, OFF, OUTLINES, frame_of, score, trajectory
 from mazegen.runtime.simulation._state import robot_limits
 from mazegen.spec import Arena, ControllerSpec, robot_for
 from tests.runtime.floors import population
@@ -241,13 +241,14 @@ POSES = [
 def test_each_rollouts_score_is_a_direct_computation():
     nav, clear, grid = fields(CLUTTER)
     verdicts = set()
+    outlines = np.zeros((OUTLINES, 5))  # one floor's: outlines traced for one rollout serve the next
     for pose in POSES:
         frame, plan, n = _plan(nav, clear, grid, pose[0], pose[1])
         for vs in (0.0, 0.1, 0.3, 0.5, -0.5):
             for ws in (-1.5, -0.7, 0.0, 0.4, 1.57):
                 expected = plain_score(nav, grid, plan[:n], pose, vs, ws)
                 poses, _ = trajectory(PARAMS, LIMITS, np.array(pose), vs, ws)
-                got = score(PARAMS, frame, nav, clear, plan, n, poses, -1.0, math.inf)
+                got = score(PARAMS, frame, nav, clear, plan, n, poses, -1.0, math.inf, outlines)
                 assert got == pytest.approx(expected, abs=1e-9), (pose, vs, ws)
                 verdicts.add(expected if expected < 0 else "valid")
     assert {"valid", OFF} <= verdicts  # valid rollouts and rollouts into obstacles among them
@@ -368,6 +369,7 @@ def test_rollouts_from_random_poses_score_as_the_direct_computation():
     nav, clear, grid = fields(CLUTTER)
     rng = np.random.default_rng(5)
     compared, verdicts = 0, set()
+    outlines = np.zeros((8, 5))  # few rows: outlines remembered are overwritten all the time
     while compared < 400:
         pose = (
             *rng.uniform((0.3, 0.3), (3.7, 2.7)),
@@ -381,7 +383,7 @@ def test_rollouts_from_random_poses_score_as_the_direct_computation():
         vs, ws = rng.uniform(0.0, 0.5), rng.uniform(-1.5, 1.5)
         poses, _ = trajectory(PARAMS, LIMITS, np.array(pose), vs, ws)
         expected = plain_score(nav, grid, plan[:n], pose, vs, ws)
-        assert score(PARAMS, frame, nav, clear, plan, n, poses, -1.0, math.inf) == pytest.approx(
+        assert score(PARAMS, frame, nav, clear, plan, n, poses, -1.0, math.inf, outlines) == pytest.approx(
             expected, abs=1e-9
         ), (pose, vs, ws)
         compared += 1
