@@ -31,6 +31,10 @@ counting too, unless the callee says otherwise, so it calls only its like (a tes
 wrapped_leaf_kernel = njit(cache=True, _nrt=False)  # type: ignore[call-overload]
 """A :data:`leaf_kernel` that Python calls too (tests, mostly)."""
 
+counted_kernel = njit(cache=True, _nrt=True)  # type: ignore[call-overload]
+"""A kernel that allocates and that a :data:`leaf_kernel` calls (a controller the episode loop's
+dispatch calls, say): its reference counting said explicitly, so that it keeps it whoever calls it."""
+
 RUN_SECONDS = 40
 """Seconds a first run waits for its kernels, at most, on a quiet 2-core machine (``benchmarks/startup.py``
 measured 18–22 s for ``mazegen run``, which compiles on both cores, 34–36 s for a run of the Python API,

@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from mazegen.controllers import BUNDLED
-from mazegen.runtime.compiling import leaf_kernel
+from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.simulation._controllers import purepursuit_command, straight_command
 from mazegen.runtime.simulation._dwa import dwa_command
 from mazegen.runtime.simulation._lidar import scan
@@ -55,7 +55,7 @@ def controller_slots(code: int, params: np.ndarray) -> tuple[np.ndarray | None, 
     return tuple(params if slot == code else None for slot in range(len(BUNDLED)))
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def command(
     straight,
     purepursuit,

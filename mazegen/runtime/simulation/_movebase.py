@@ -38,7 +38,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import counted_kernel, inner_kernel
 from mazegen.runtime.simulation._controllers import ACCEL, MAX_SPEED, MAX_TURN, TURN_ACCEL
 from mazegen.runtime.simulation._costmap import descend
 from mazegen.runtime.simulation._rollout import (
@@ -72,7 +72,7 @@ PLAN_CELLS = 1024
 """Plan cells kept near the robot at most."""
 
 
-@njit(cache=True)
+@counted_kernel
 def movebase_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
 ):  # pragma: no cover - compiled

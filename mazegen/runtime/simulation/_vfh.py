@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import leaf_kernel
+from mazegen.runtime.compiling import counted_kernel, leaf_kernel
 from mazegen.runtime.simulation._controllers import MAX_SPEED, MAX_TURN, RADIUS, wrap
 
 # Parameters, in the order of vfh's row in mazegen/controllers.py; tests/runtime/simulation/test_registry.py
@@ -34,7 +34,7 @@ from mazegen.runtime.simulation._controllers import MAX_SPEED, MAX_TURN, RADIUS,
 SECTORS, THRESHOLD, SAFETY, WINDOW, WIDE, HEADING_GAIN = range(6)
 
 
-@njit(cache=True)
+@counted_kernel
 def vfh_command(
     params, limits, pose, goal, nav, clear, grid, path, scan, angles, memory, out
 ):  # pragma: no cover
