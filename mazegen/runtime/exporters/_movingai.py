@@ -17,14 +17,14 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel
 from mazegen.runtime.documents import Floor
 from mazegen.runtime.exporters._floor import ExportOptions, floor_tasks
 
 SQRT2 = math.sqrt(2.0)
 
 
-@inner_kernel
+@leaf_kernel
 def _octile(dr, dc):  # pragma: no cover - compiled
     """Octile distance over ``dr`` rows and ``dc`` columns."""
     low, high = min(abs(dr), abs(dc)), max(abs(dr), abs(dc))

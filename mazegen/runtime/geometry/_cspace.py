@@ -22,6 +22,7 @@ import numpy as np
 from numba import njit
 
 from mazegen.maps import base_on_grid, near_cells
+from mazegen.runtime.compiling import wrapped_leaf_kernel
 from mazegen.runtime.geometry._bits import HIGH, ONE, is_set, popcount, set_block
 from mazegen.runtime.geometry._elements import ElementTable, population_arrays, world_element
 from mazegen.runtime.threads import in_blocks
@@ -201,7 +202,7 @@ def raster_arrays(grid, slots, parts, vertices):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def cspace(shapes, ids, count, params, grid, raster, free):  # pragma: no cover - compiled
     """Free configuration-space cells of one individual, as bit rows in ``free``; the occupied cells
     (its elements' and the base map's walls) are left in the first rows of ``raster``.
@@ -332,7 +333,7 @@ def is_free(free, r, c, cols):  # pragma: no cover - compiled
     return 0 <= r < free.shape[0] and 0 <= c < cols and is_set(free[r], c)
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def straight_free(free, cols, cell, points):  # pragma: no cover - compiled
     """Whether every cell the segment start → goal touches is free (cells walked as in Amanatides and Woo;
     where it passes exactly through a cell corner, both side cells must be free too)."""

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from mazegen.runtime.compiling import wrapped_leaf_kernel
 from mazegen.runtime.geometry._bits import HIGH, ONE, lowest_bit
 
 # Columns of a rectangle's row: its extent, then where its edges up and down are.
@@ -49,7 +50,7 @@ def rectangle_arrays(rows, cols):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def decompose(free, cols, cells, arrays):  # pragma: no cover - compiled
     """Split the free cells of bit rows ``free`` into rectangles and their edges.
 

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.geometry import (
     Grid,
     cspace,
@@ -105,7 +105,7 @@ def _reachable_all(first, last, shapes, ids, n_el, params, valid, grid, out):  #
             out[i] = _reachable_share(free, cols, grid[6], runs, parent, sizes)
 
 
-@inner_kernel
+@leaf_kernel
 def _reachable_share(free, cols, cells, runs, parent, sizes):  # pragma: no cover - compiled
     """The share of the free cells of bit rows ``free`` joined to the start cell (``cells[:2]``) through
     free cells sharing edges; ``sizes`` (all zero, and left so) counts each run label's cells."""
@@ -137,7 +137,7 @@ def component_arrays(rows, cols):  # pragma: no cover - compiled
     return run_arrays(np.int64(2), cols), np.zeros(rows * runs_per_row(cols), np.int64)
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def connected(free, cols, cells, runs, parent):  # pragma: no cover - compiled
     """Whether the start and goal cells of bit rows ``free`` are joined by free cells sharing edges.
 

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import inner_kernel, wrapped_leaf_kernel
 from mazegen.runtime.geometry import (
     ONE,
     floor_cells,
@@ -234,7 +234,7 @@ def _survey_all(  # pragma: no cover - compiled
         table[i, 5] = total / min(point_total, total) if point_found and total > 0.0 else 1.0
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def path_cells(corners, turns, free, cell, cols, out):  # pragma: no cover - compiled
     """The free cells the polyline ``corners[:turns]`` passes through, in order; returns their count.
 
@@ -316,7 +316,7 @@ def step_arrays(rows, cols):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def fill_free_steps(free, cols, arrays):  # pragma: no cover - compiled
     """For every cell ``(r, c)`` and king direction ``d``, the free cells stepped over from it along
     ``KING[d]`` before the first blocked one (cells outside the grid are blocked), into
@@ -353,7 +353,7 @@ def fill_free_steps(free, cols, arrays):  # pragma: no cover - compiled
                 into[c] = opened[c] * (ahead[c] + 1)
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def cell_dispersion(free, steps, r, c, reach, cols):  # pragma: no cover - compiled
     """Alternations between rays that meet a blocked cell within ``reach`` cells and rays that do not
     (``steps`` as :func:`fill_free_steps` leaves them: the king rays' first blocked cells)."""
@@ -376,7 +376,7 @@ def cell_dispersion(free, steps, r, c, reach, cols):  # pragma: no cover - compi
     return changes
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def closest_blocked(arrays, r, c):  # pragma: no cover - compiled
     """Squared distance, in cells, from cell ``(r, c)`` to the nearest blocked cell (outside counts),
     ``arrays`` as :func:`fill_free_steps` leaves them.

@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.geometry import row_runs_of, run_arrays, runs_per_row
 
 MAX_HOLES = 64
@@ -42,7 +42,7 @@ def hole_arrays(rows, cols):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def holes_of(free, cols, points, arrays):  # pragma: no cover - compiled
     """Find the holes of bit rows ``free`` (``points``: start and goal, cells): their rays
     (``arrays[2]``) and marks, distances off the start-goal line and cells' sums (``arrays[3]``);
@@ -50,7 +50,7 @@ def holes_of(free, cols, points, arrays):  # pragma: no cover - compiled
     return _find_holes(free, cols, points, arrays[0], arrays[1], arrays[3], arrays[4], arrays[2])
 
 
-@inner_kernel
+@leaf_kernel
 def _find_holes(free, cols, points, runs, parent, holes, row_runs, rays):  # pragma: no cover - compiled
     """:func:`holes_of`, the scratch unpacked."""
     rows = free.shape[0]

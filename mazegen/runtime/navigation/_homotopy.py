@@ -33,7 +33,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import inner_kernel, leaf_kernel
 from mazegen.runtime.geometry import (
     FIRST_COL,
     FIRST_ROW,
@@ -139,7 +139,7 @@ def floor_classes(free, cols, cells, points, max_classes, detour, scratch, lengt
     return _search(rects, found, goal_junction, args, scratch, out), holes
 
 
-@inner_kernel
+@leaf_kernel
 def _chain_signatures(rects, n_chains, holes, scratch):  # pragma: no cover - compiled
     """Each chain's signature walked forwards, from its first junction's first row to its last's, and
     whether a count of two stops it."""
@@ -157,7 +157,7 @@ def _chain_signatures(rects, n_chains, holes, scratch):  # pragma: no cover - co
         signatures[c, PLUS], signatures[c, MINUS], winds[c] = plus, minus, not ok
 
 
-@inner_kernel
+@leaf_kernel
 def _move(plus, minus, rects, here, there, rays, holes):  # pragma: no cover - compiled
     """The signature after moving from ``here``'s first row to the touching ``there``'s."""
     low, high = rects[here, FIRST_ROW], rects[here, LAST_ROW]
@@ -362,7 +362,7 @@ def _add_state(
     return n + 1
 
 
-@inner_kernel
+@leaf_kernel
 def crossed(plus, minus, row, to_row, col, rays, holes):  # pragma: no cover - compiled
     """The signature ``(plus, minus)`` (masks of the holes counted +1 and -1) after moving from row
     ``row`` to row ``to_row`` in columns from ``col`` on: each ray between the two (a ray of row ``r``

@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.geometry import ABOVE, BELOW, DOWN_COUNT, DOWN_FIRST, UP_COUNT, UP_FIRST
 
 FROM, TO, FIRST, COUNT = 0, 1, 2, 3  # columns of a chain: its junctions, and where its interior is
@@ -39,7 +39,7 @@ def junction_arrays(capacity):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def junctions(rects, edges, count, start, goal, arrays):  # pragma: no cover - compiled
     """Prune the dead ends of a decomposition of ``count`` rectangles and join the junctions reachable
     from ``start`` by their chains.
@@ -82,7 +82,7 @@ def junctions(rects, edges, count, start, goal, arrays):  # pragma: no cover - c
     return found, n_chains
 
 
-@inner_kernel
+@leaf_kernel
 def _prune(rects, edges, count, start, goal, left, stack):  # pragma: no cover - compiled
     """``left``: each rectangle's neighbours once the dead ends are pruned, -1 for a pruned one."""
     top = 0
@@ -106,7 +106,7 @@ def _prune(rects, edges, count, start, goal, left, stack):  # pragma: no cover -
                 top += 1
 
 
-@inner_kernel
+@leaf_kernel
 def _incidence(chains, n_chains, found, offsets, incident):  # pragma: no cover - compiled
     """Each junction's chains, both ends of a chain that returns to its junction: ``incident[offsets[j]:
     offsets[j + 1]]``, as (chain, direction)."""

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numba import njit
 
-from mazegen.runtime.compiling import inner_kernel
+from mazegen.runtime.compiling import inner_kernel, leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.geometry import (
     ABOVE,
     BELOW,
@@ -171,7 +171,7 @@ def _corner_paths(shapes, ids, n_el, params, valid, grid, rows):  # pragma: no c
     return corners, ends
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def copy_points(source, start, out, out_start, count):  # pragma: no cover - compiled
     """``out[out_start:][:count] = source[start:][:count]`` for rows of two coordinates, as a loop (a
     slice assignment compiles a shape check and its message)."""
@@ -213,7 +213,7 @@ def route_scratch(shapes, slots, grid):  # pragma: no cover - compiled
     )
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def route(shapes, ids, count, params, grid, scratch):  # pragma: no cover - compiled
     """Configuration space and path of one individual.
 
@@ -246,7 +246,7 @@ def _search_arrays(capacity, buckets):  # pragma: no cover - compiled
     )
 
 
-@inner_kernel
+@leaf_kernel
 def _shortest(rectangles, count, start, goal, grid, search, portals, corners):  # pragma: no cover - compiled
     """Search rectangle ``start`` → ``goal``; returns (found, path length, corners written to ``corners``).
 
@@ -351,7 +351,7 @@ def aim_across(ex, ey, gx, gy, y):  # pragma: no cover - compiled
     return ex
 
 
-@njit(cache=True)
+@wrapped_leaf_kernel
 def funnel(rects, corridor, hops, sx, sy, gx, gy, portals, corners):  # pragma: no cover - compiled
     """The shortest path from start to goal through the corridor's portals, in cell units: (length, corners).
 
