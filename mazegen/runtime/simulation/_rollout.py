@@ -36,6 +36,9 @@ OFF, CUT, OVER = -1.0, -2.0, -3.0
 cut off from the goal, and a cost over the budget."""
 _EDGE = 1e-6
 """A rollout's end this close (in cells) to a cell's side may fall in either cell."""
+OUTLINES = 1024
+"""Outlines :func:`pose_cost` remembers (a power of two): a robot's rollouts from one step to the next
+trace many of the same."""
 
 
 @njit(cache=True, inline="always")
@@ -254,7 +257,7 @@ def pose_cost(frame, clear, nav, x, y, cos_t, sin_t, outlines):  # pragma: no co
             return OFF
         mixed = ((k0 * 1000003 + k1) * 1000003 + k2) * 1000003 + k3
         row = (mixed ^ (mixed >> 29)) & (outlines.shape[0] - 1)
-        if not (
+        if not (  # (the first corner stored plus one: a zeroed row is empty)
             outlines[row, 0] == k0 + 1
             and outlines[row, 1] == k1
             and outlines[row, 2] == k2
@@ -269,11 +272,6 @@ def pose_cost(frame, clear, nav, x, y, cos_t, sin_t, outlines):  # pragma: no co
     if nav[GOAL_DISTANCE, r, c] == math.inf:
         return CUT
     return worst
-
-
-OUTLINES = 1024
-"""Outlines :func:`pose_cost` remembers (a power of two): a robot's rollouts from one step to the next
-trace many of the same."""
 
 
 @njit(cache=True, inline="always")
