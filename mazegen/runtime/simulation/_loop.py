@@ -18,7 +18,7 @@ from mazegen.runtime.compiling import leaf_kernel, wrapped_leaf_kernel
 from mazegen.runtime.simulation._controllers import purepursuit_command, straight_command
 from mazegen.runtime.simulation._dwa import dwa_command
 from mazegen.runtime.simulation._lidar import scan
-from mazegen.runtime.simulation._movebase import MEMORY, movebase_command
+from mazegen.runtime.simulation._movebase import memory_for, movebase_command
 from mazegen.runtime.simulation._state import ACTIVE, DriveState, X
 from mazegen.runtime.simulation._step import advance
 from mazegen.runtime.simulation._vfh import vfh_command
@@ -139,7 +139,7 @@ def run_all(
     ranges = np.zeros(angles.shape[0])
     near = np.zeros(most, np.int64)
     pose = np.zeros(5)
-    memory = np.zeros(MEMORY)
+    memory = memory_for(movebase)
     out = np.zeros(2)
     for m in range(first, last):
         f = m if nav.shape[0] > 1 else 0

@@ -66,6 +66,16 @@ STATE = 10
 """Its length."""
 MEMORY = STATE + 5 * OUTLINES
 """A robot's memory: its state, then the outlines it has traced on its floor (:func:`pose_cost`'s)."""
+
+
+@njit(cache=True, inline="always")
+def memory_for(movebase):  # pragma: no cover - compiled
+    """A robot's memory for a drive, given the episode loop's ``movebase`` slot: :data:`MEMORY` when
+    movebase drives, else a few values (no other bundled controller keeps any), so that zeroing it for
+    each episode costs the others nothing."""
+    return np.zeros(MEMORY if movebase is not None else STATE)
+
+
 POTENTIAL = 0
 """navfn's potential's layer of ``nav``."""
 PLAN_CELLS = 1024

@@ -28,7 +28,7 @@ from mazegen.runtime.compiling import leaf_kernel
 from mazegen.runtime.simulation._episodes import ARRIVED, TIMEOUT
 from mazegen.runtime.simulation._levels import INERT_BOX, LevelRows
 from mazegen.runtime.simulation._loop import command, controller_slots
-from mazegen.runtime.simulation._movebase import MEMORY
+from mazegen.runtime.simulation._movebase import memory_for
 from mazegen.runtime.simulation._policy import look
 from mazegen.runtime.simulation._state import ACTIVE, THETA, Robots, V, W, X, Y, boxes_of
 from mazegen.runtime.simulation._step import advance, begin
@@ -276,7 +276,7 @@ def _commands(
 ):  # fmt: skip  # pragma: no cover - compiled
     nav, clear, grid = fields
     pose = np.zeros(5)
-    memory = np.zeros(MEMORY)
+    memory = memory_for(movebase)
     command_out = np.zeros(2)
     for m in range(first, last):
         for k in range(5):
