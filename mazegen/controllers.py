@@ -401,8 +401,8 @@ BUNDLED: dict[str, BundledController] = {
             Parameter(
                 "obstacle_weight",
                 0.1,
-                NUMBER,
-                "weight of the costliest cell under the footprint",
+                LENGTH,
+                "goal distance each unit of cost of the costliest cell under the footprint weighs as",
                 source="BARN's occdist_scale",
             ),
             Parameter(

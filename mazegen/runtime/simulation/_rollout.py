@@ -9,9 +9,13 @@ lines between its corners' cells) crosses an obstacle cell (:data:`OFF`), or whe
 reached by the goal distance (:data:`CUT`: within the inscribed radius of an obstacle, or cut off;
 base_local_planner exempts the cells under the robot's footprint from its path distance's obstacles,
 not from its goal distance's, so a robot whose own cell is that near an obstacle stands). A valid
-rollout costs ``(path_weight · plan distance + goal_weight · goal distance + obstacle_weight ·
-occupancy) · resolution``, distances in cells at its last pose, the occupancy the costliest cell
-under any pose's outline or centre.
+rollout costs ``(path_weight · plan distance + goal_weight · goal distance) · resolution +
+obstacle_weight · occupancy``, distances in cells at its last pose, the occupancy the costliest cell
+under any pose's outline or centre. ``meter_scoring`` multiplies the two distance weights by the
+resolution, not the obstacle weight: navigation 1.16 (ROS Melodic, on which BARN's timing runs ran)
+dropped the obstacle weight's scaling from TrajectoryPlanner's reconfigure, which sets the weights
+the planner scores with (ros-planning/navigation 65d59a47). So ``obstacle_weight`` is a length: the
+goal distance one unit of cost weighs as.
 """
 
 from __future__ import annotations
@@ -121,7 +125,7 @@ def bound(params, limits, frame, nav, clear, pose, vs, ws, here):  # pragma: no 
         middle = theta + 0.5 * (rest - 1) * a
         x += vs * dt * scale * math.cos(middle)
         y += vs * dt * scale * math.sin(middle)
-    weight = params[OBSTACLE_WEIGHT] * params[RESOLUTION]
+    weight = params[OBSTACLE_WEIGHT]
     u = (x - frame[0]) / frame[2]
     t = (y - frame[1]) / frame[2]
     if min(abs(u - round(u)), abs(t - round(t))) < _EDGE:  # the stepped end may be in the next cell
@@ -180,7 +184,7 @@ def score(
     once, in time order, and an invalid rollout's verdict is its first invalid pose's.
     """
     n = poses.shape[0]
-    weight = params[OBSTACLE_WEIGHT] * params[RESOLUTION]
+    weight = params[OBSTACLE_WEIGHT]
     distances = 0.0
     r, c = cell_of(frame, clear, poses[n - 1, 0], poses[n - 1, 1])
     if r >= 0 and nav[GOAL_DISTANCE, r, c] < math.inf:

@@ -213,7 +213,7 @@ def plain_score(nav, grid, plan, pose, vs, ws, params=PARAMS):
         occupancy = max([occupancy, float(nav[2][here])] + [float(nav[2][cell]) for cell in outline])
         r, c = here
     path = min(abs(pr - r) + abs(pc - c) for pr, pc in plan)
-    return (params[8] * path + params[9] * float(nav[1][r, c]) + params[10] * occupancy) * params[21]
+    return (params[8] * path + params[9] * float(nav[1][r, c])) * params[21] + params[10] * occupancy
 
 
 def _plan(nav, clear, grid, x, y):
