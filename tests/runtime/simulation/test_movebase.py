@@ -344,6 +344,41 @@ def test_a_corridor_closed_to_the_padded_footprint_is_planned_around_and_replann
     assert any(not set(plan) <= first for plan in plans[1:])
 
 
+def test_a_rollout_costs_the_same_in_centimetres_as_in_metres():
+    """meter_scoring weighs distances in metres and the obstacle cost as it is, so the obstacle weight
+    is a length: the arena's unit scales it with the distances, and no choice depends on the unit."""
+    cm = dataclasses.replace(YARD, width=400.0, height=300.0, unit="cm", start=(50.0, 150.0),
+                             goal=(350.0, 150.0), robot_radius=20.0, grid=5.0)  # fmt: skip
+    in_cm = [(name, 100 * x, 100 * y, 100 * w, 100 * d, r) for name, x, y, w, d, r in CLUTTER]
+    params_cm = bundled_params("movebase", (), cm)
+    limits_cm = robot_limits(robot_for(cm, min_speed=-50.0), cm)
+    nav, clear, grid = fields(CLUTTER)
+    nav_cm, clear_cm, grid_cm = costmap_fields(population(cm, [in_cm]), params_cm, np.array([0]))
+    frame_cm = frame_of(params_cm, grid_cm)
+    no_obstacles = PARAMS.copy()
+    no_obstacles[10] = 0.0  # obstacle_weight
+    occupied = 0
+    for pose in POSES:
+        frame, plan, n = _plan(nav, clear, grid, pose[0], pose[1])
+        pose_cm = np.array(pose) * [100, 100, 1, 100, 1]
+        for vs, ws in ((0.0, 0.8), (0.2, -0.5), (0.5, 0.0), (0.4, 1.2)):
+            poses, _ = trajectory(PARAMS, LIMITS, np.array(pose), vs, ws)
+            table = np.zeros((OUTLINES, 5))
+            metres = score(PARAMS, frame, nav, clear, plan, n, poses, -1.0, math.inf, table)
+            poses_cm, _ = trajectory(params_cm, limits_cm, pose_cm, 100 * vs, ws)
+            table = np.zeros((OUTLINES, 5))
+            centimetres = score(
+                params_cm, frame_cm, nav_cm[0], clear_cm[0], plan, n, poses_cm, -1.0, math.inf, table
+            )
+            # (the grids' roundings differ by a cell or a unit of cost here and there: within 1 %)
+            assert centimetres == pytest.approx(100 * metres if metres >= 0 else metres, rel=0.01)
+            free = score(
+                no_obstacles, frame, nav, clear, plan, n, poses, -1.0, math.inf, np.zeros((OUTLINES, 5))
+            )
+            occupied += metres > free  # the outline's cost weighs in
+    assert occupied  # rollouts whose outline costs something among them
+
+
 def test_a_resolution_too_fine_for_the_arena_is_one_line_before_anything_is_built():
     fine = ControllerSpec("movebase", (("resolution", 1e-4),))
     with pytest.raises(
